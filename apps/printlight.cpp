@@ -1,0 +1,36 @@
+// printlight: predicts the appearance of full-colour 3D prints.
+#include <cstdio>
+#include <cstring>
+
+#include "apps/commands.h"
+#include "io/input_error.h"
+
+namespace {
+const char* kUsage =
+    "usage: printlight <command> [options]\n"
+    "commands:\n"
+    "  render SCENE.json [--spp N] [--seed S] [--threads N] [--channel r|g|b|rgb] [-o OUT]\n"
+    "         renders a scene; writes OUT.exr, OUT.png and, for the surface-voxel sensor, OUT.vdb\n"
+    "  info VOLUME [--void-label N]\n"
+    "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
+}
+
+int main(int argc, char** argv) {
+    if (argc < 2 || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "--help")) {
+        std::fputs(kUsage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    std::string command = argv[1];
+    std::vector<std::string> args(argv + 2, argv + argc);
+    try {
+        if (command == "render") return pl::renderCommand(args);
+        if (command == "info") return pl::infoCommand(args);
+        throw pl::UsageError("unknown command '" + command + "'");
+    } catch (const pl::UsageError& e) {
+        std::fprintf(stderr, "printlight: %s\n%s", e.what(), kUsage);
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "printlight: error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,121 @@
+// printlight render: scene file -> surface-radiance prediction or preview.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include "apps/arguments.h"
+#include "core/progress.h"
+#include "io/grid_io.h"
+#include "io/image_io.h"
+#include "io/input_error.h"
+#include "io/output_file.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+namespace {
+
+std::filesystem::path outputBase(std::filesystem::path p) {
+    std::string ext = p.extension().string();
+    if (ext == ".exr" || ext == ".png" || ext == ".vdb") p.replace_extension();
+    return p;
+}
+
+std::string withThousands(uint64_t n) {
+    std::string s = std::to_string(n);
+    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(size_t(i), ",");
+    return s;
+}
+
+std::string siRate(double v) {
+    char buf[32];
+    if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.2fG", v / 1e9);
+    else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
+    else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
+    else std::snprintf(buf, sizeof buf, "%.0f", v);
+    return buf;
+}
+
+double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+int renderCommand(const std::vector<std::string>& argv) {
+    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "-o"}, {"--quiet"});
+    if (args.positional().size() != 1) throw UsageError("render needs exactly one SCENE.json");
+    auto t0 = std::chrono::steady_clock::now();
+
+    SceneDescription desc = parseScene(args.positional()[0]);
+    if (auto spp = args.integer("--spp", 1, int64_t(1) << 24)) desc.render.spp = uint32_t(*spp);
+    if (auto seed = args.integer("--seed", 0, INT64_MAX)) desc.render.seed = uint64_t(*seed);
+    if (auto ch = args.value("--channel")) {
+        auto channels = parseChannels(*ch);
+        if (!channels) throw UsageError("--channel must be r, g, b or rgb");
+        desc.render.channels = *channels;
+    }
+    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    if (auto o = args.value("-o")) desc.output = *o;
+
+    // Outputs: never over an input, never partial (see io/output_file.h).
+    std::filesystem::path base = outputBase(desc.output);
+    bool surface = desc.sensor.type == "surface_voxels";
+    std::vector<std::filesystem::path> outputs = {base.string() + ".exr", base.string() + ".png"};
+    if (surface) outputs.push_back(base.string() + ".vdb");
+    for (const auto& o : outputs) refuseToOverwriteInputs(o, desc.inputFiles());
+
+    bool quiet = args.has("--quiet");
+    Scene scene = loadScene(desc);
+    std::unique_ptr<Sensor> sensor;
+    try {
+        sensor = makeSensor(desc.sensor, scene);
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::runtime_error& e) {
+        throw InputError(desc.labelsFile.string(), e.what());
+    }
+    double setupSeconds = secondsSince(t0);
+    const GridFrame& f = scene.medium->frame();
+    if (!quiet)
+        std::fprintf(stderr,
+                     "printlight: %s: %zu triangles, grid %dx%dx%d, sensor %s with %s pixels, "
+                     "%u spp, %zu channel pass(es), %d thread(s), set-up %.2f s\n",
+                     desc.sceneFile.string().c_str(), scene.geometry->mesh().triangleCount(),
+                     f.resolution.x, f.resolution.y, f.resolution.z, desc.sensor.type.c_str(),
+                     withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
+                     desc.render.channels.size(), threads, setupSeconds);
+
+    desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
+    RenderResult result = render(scene, *sensor, desc.render);
+
+    RadianceImage image = filmToImage(result.film, *sensor);
+    writeExr(image, outputs[0]);
+    writePng(image, outputs[1]);
+    if (surface) {
+        std::vector<Vec3i> voxels;
+        for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
+            voxels.push_back(px.voxel);
+        writeSurfaceResultVdb(f, voxels, result.film, outputs[2]);
+    }
+    if (result.stats.leaks)
+        std::fprintf(stderr, "printlight: warning: %s rays escaped through the mesh (numerical leaks)\n",
+                     withThousands(result.stats.leaks).c_str());
+
+    // Summary: wall time, samples, paths per second, scattering events per second.
+    uint64_t samples = uint64_t(sensor->pixelCount()) * desc.render.spp * desc.render.channels.size();
+    double s = result.seconds;
+    std::printf("render %.2f s wall (%.2f s total), %s samples (%s px x %u spp x %zu ch), "
+                "%s paths/s, %s scattering events/s, %d thread(s) -> %s\n",
+                s, secondsSince(t0), withThousands(samples).c_str(),
+                withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
+                desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
+                siRate(result.stats.scatterEvents / s).c_str(), threads,
+                (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
+    return 0;
+}
+
+}  // namespace pl

@@ -1,0 +1,162 @@
+#include "core/geometry.h"
+
+#include <embree3/rtcore.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace pl {
+
+struct Geometry::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+namespace {
+
+Vec3f triangleNormal(const TriangleMesh& m, uint32_t prim) {
+    const Point3f& a = m.positions_mm[m.indices[3 * prim]];
+    const Point3f& b = m.positions_mm[m.indices[3 * prim + 1]];
+    const Point3f& c = m.positions_mm[m.indices[3 * prim + 2]];
+    return normalize(cross(b - a, c - a));
+}
+
+// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+Point3f closestPointOnTriangle(const Point3f& p, const Point3f& a, const Point3f& b,
+                               const Point3f& c) {
+    Vec3f ab = b - a, ac = c - a, ap = p - a;
+    float d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return a;
+    Vec3f bp = p - b;
+    float d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return b;
+    float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+    Vec3f cp = p - c;
+    float d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return c;
+    float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+    float va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    float denom = 1.0f / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+struct PointQueryState {
+    const TriangleMesh* mesh;
+    ClosestSurfacePoint best;
+    uint32_t bestPrim = 0;
+    bool found = false;
+};
+
+bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<PointQueryState*>(args->userPtr);
+    const TriangleMesh& m = *state->mesh;
+    uint32_t prim = args->primID;
+    Point3f q(args->query->x, args->query->y, args->query->z);
+    const Point3f& a = m.positions_mm[m.indices[3 * prim]];
+    const Point3f& b = m.positions_mm[m.indices[3 * prim + 1]];
+    const Point3f& v2 = m.positions_mm[m.indices[3 * prim + 2]];
+    Point3f c = closestPointOnTriangle(q, a, b, v2);
+    float d = length(c - q);
+    // Ties (points on shared edges) go to the lowest primitive id, so the
+    // answer does not depend on BVH traversal order.
+    bool better = state->found ? (d < state->best.distance_mm ||
+                                  (d == state->best.distance_mm && prim < state->bestPrim))
+                               : d <= args->query->radius;
+    if (better) {
+        args->query->radius = d;
+        state->best = {c, triangleNormal(m, prim), d, (a + b + v2) / 3.0f};
+        state->bestPrim = prim;
+        state->found = true;
+        return true;  // the query radius shrank
+    }
+    return false;
+}
+
+}  // namespace
+
+Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(std::move(mesh)) {
+    for (const Point3f& p : mesh_.positions_mm) bounds_.expand(p);
+    float maxAbs = 0;
+    for (int a = 0; a < 3; ++a)
+        maxAbs = std::max({maxAbs, std::abs(bounds_.lo[a]), std::abs(bounds_.hi[a])});
+    // ~64 float ulps at the mesh's largest coordinate, and never below 0.1 um.
+    rayEpsilon_mm_ = std::max(1e-4f, maxAbs * 64.0f * 1.2e-7f);
+
+    impl_->device = rtcNewDevice(nullptr);
+    if (!impl_->device) throw std::runtime_error("cannot create an Embree device");
+    impl_->scene = rtcNewScene(impl_->device);
+    rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                               mesh_.positions_mm.data(), 0, sizeof(Point3f),
+                               mesh_.positions_mm.size());
+    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                               mesh_.indices.data(), 0, 3 * sizeof(uint32_t),
+                               mesh_.triangleCount());
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(impl_->scene, geom);
+    rtcReleaseGeometry(geom);
+    rtcCommitScene(impl_->scene);
+}
+
+Geometry::~Geometry() = default;
+
+std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
+    rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = tMax;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.flags = 0;
+    rh.ray.time = 0.0f;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(impl_->scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
+
+    uint32_t prim = rh.hit.primID;
+    SurfaceHit hit;
+    hit.t = rh.ray.tfar;
+    hit.p = ray.at(hit.t);
+    hit.ng = triangleNormal(mesh_, prim);
+    hit.ns = hit.ng;
+    if (!mesh_.normals.empty()) {
+        // Interpolate file normals with Embree's barycentrics (v0 + u e1 + v e2).
+        float u = rh.hit.u, v = rh.hit.v;
+        const uint32_t* idx = &mesh_.indices[3 * prim];
+        Vec3f n = mesh_.normals[idx[0]] * (1 - u - v) + mesh_.normals[idx[1]] * u +
+                  mesh_.normals[idx[2]] * v;
+        float len = length(n);
+        // Keep the shading normal on the geometric normal's side.
+        if (len > 0 && dot(n, hit.ng) > 0) hit.ns = n / len;
+    }
+    return hit;
+}
+
+std::optional<ClosestSurfacePoint> Geometry::closestPoint(const Point3f& p,
+                                                          float radius_mm) const {
+    RTCPointQuery query;
+    query.x = p.x; query.y = p.y; query.z = p.z;
+    query.radius = radius_mm;
+    query.time = 0.0f;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    PointQueryState state{&mesh_, {}, false};
+    rtcPointQuery(impl_->scene, &query, &context, closestPointCallback, &state);
+    if (!state.found) return std::nullopt;
+    return state.best;
+}
+
+}  // namespace pl

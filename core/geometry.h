@@ -1,0 +1,74 @@
+// The printed object's boundary: one closed triangle mesh behind Embree.
+// Embree types stay in geometry.cpp.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/vecmath.h"
+
+namespace pl {
+
+// Triangles wound counter-clockwise seen from outside (outward normals).
+struct TriangleMesh {
+    std::vector<Point3f> positions_mm;
+    std::vector<Vec3f> normals;  // per vertex, optional (empty if absent)
+    std::vector<uint32_t> indices;
+    size_t triangleCount() const { return indices.size() / 3; }
+};
+
+struct Bounds3f {
+    Point3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
+    void expand(const Point3f& p) { lo = vmin(lo, p); hi = vmax(hi, p); }
+    bool empty() const { return lo.x > hi.x; }
+};
+
+struct SurfaceHit {
+    float t;
+    Point3f p;
+    Vec3f ng;  // outward geometric normal (unit)
+    Vec3f ns;  // outward shading normal (unit; equals ng without file normals)
+};
+
+struct ClosestSurfacePoint {
+    Point3f p;
+    Vec3f ng;  // outward normal of the triangle the point lies on
+    float distance_mm;
+    Point3f triangleCentroid_mm;
+};
+
+class Geometry {
+public:
+    explicit Geometry(TriangleMesh mesh);
+    ~Geometry();
+    Geometry(const Geometry&) = delete;
+    Geometry& operator=(const Geometry&) = delete;
+
+    // Closest hit along the ray in (tMin, tMax).
+    std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f) const;
+    // Closest point on the mesh within radius_mm of p.
+    std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
+
+    const TriangleMesh& mesh() const { return mesh_; }
+    Bounds3f bounds() const { return bounds_; }
+    // Offset that moves a point off the surface robustly for this mesh's scale.
+    float rayEpsilon_mm() const { return rayEpsilon_mm_; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+    TriangleMesh mesh_;
+    Bounds3f bounds_;
+    float rayEpsilon_mm_;
+};
+
+// Spawns a ray leaving the surface point p in direction d (unit),
+// offset to the side d points to.
+inline Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d, float eps_mm) {
+    float side = dot(d, ng) > 0 ? 1.0f : -1.0f;
+    return {p + ng * (side * eps_mm), d};
+}
+
+}  // namespace pl

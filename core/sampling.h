@@ -1,0 +1,52 @@
+// Sampling routines. Each returns the sampled value together with its pdf.
+#pragma once
+
+#include <cmath>
+#include <optional>
+
+#include "core/vecmath.h"
+
+namespace pl {
+
+// Henyey-Greenstein phase function with propagation-direction convention:
+// cosTheta = dot(dIn, dOut), so g > 0 scatters forward.
+inline float hgPhase(float cosTheta, float g) {
+    float denom = 1.0f + g * g - 2.0f * g * cosTheta;
+    return (1.0f - g * g) / (4.0f * kPi * denom * std::sqrt(std::max(denom, 1e-30f)));
+}
+
+struct PhaseSample {
+    Vec3f dOut;   // new propagation direction (unit)
+    float value;  // phase function value p(dIn, dOut)
+    float pdf;    // solid-angle pdf of dOut (equal to value for HG)
+};
+
+// Inverts the HG cdf in cosTheta; uniform azimuth around dIn.
+inline PhaseSample sampleHG(const Vec3f& dIn, float g, float u0, float u1) {
+    float cosTheta;
+    if (std::abs(g) < 1e-4f) {
+        cosTheta = 1.0f - 2.0f * u0;
+    } else {
+        float sqrTerm = (1.0f - g * g) / (1.0f - g + 2.0f * g * u0);
+        cosTheta = (1.0f + g * g - sqrTerm * sqrTerm) / (2.0f * g);
+    }
+    cosTheta = std::clamp(cosTheta, -1.0f, 1.0f);
+    float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    float phi = 2.0f * kPi * u1;
+    Vec3f local(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta);
+    Vec3f dOut = normalize(Frame(dIn).toWorld(local));
+    float p = hgPhase(cosTheta, g);
+    return {dOut, p, p};
+}
+
+// Exponential free-flight distance with rate sigma (1/mm): value and pdf.
+struct DistanceSample {
+    float t;
+    float pdf;
+};
+inline DistanceSample sampleExponential(float sigma, float u) {
+    float t = -std::log1p(-u) / sigma;
+    return {t, sigma * std::exp(-sigma * t)};
+}
+
+}  // namespace pl

@@ -1,0 +1,100 @@
+// Sensors turn (pixel index, two uniform numbers) into primary rays.
+//  - PerspectiveSensor / OrthographicSensor: preview cameras, box-filtered
+//    pixels of a width x height image (row-major, top row first).
+//  - SurfaceVoxelSensor: the optimisation sensor, one "pixel" per surface
+//    voxel; its construction is documented in docs/surface-voxel-sensor.md.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/grid_frame.h"
+#include "core/vecmath.h"
+
+namespace pl {
+
+class Sensor {
+public:
+    virtual ~Sensor() = default;
+    virtual size_t pixelCount() const = 0;
+    virtual Ray generateRay(size_t pixel, float u0, float u1) const = 0;
+    // The image the results are shown in: pixelImageIndex(p) is the
+    // row-major index in a imageWidth() x imageHeight() image, or -1.
+    virtual int imageWidth() const = 0;
+    virtual int imageHeight() const = 0;
+    virtual int64_t pixelImageIndex(size_t pixel) const { return int64_t(pixel); }
+};
+
+struct CameraPose {
+    Point3f position_mm{0, 0, 0};
+    Point3f lookAt_mm{0, 0, 1};
+    Vec3f up{0, 1, 0};
+};
+
+class PerspectiveSensor : public Sensor {
+public:
+    PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width, int height);
+    size_t pixelCount() const override { return size_t(width_) * height_; }
+    Ray generateRay(size_t pixel, float u0, float u1) const override;
+    int imageWidth() const override { return width_; }
+    int imageHeight() const override { return height_; }
+
+private:
+    Point3f origin_;
+    Vec3f right_, up_, forward_;
+    float tanHalfFovY_;
+    int width_, height_;
+};
+
+class OrthographicSensor : public Sensor {
+public:
+    OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width, int height);
+    size_t pixelCount() const override { return size_t(width_) * height_; }
+    Ray generateRay(size_t pixel, float u0, float u1) const override;
+    int imageWidth() const override { return width_; }
+    int imageHeight() const override { return height_; }
+
+private:
+    Point3f origin_;
+    Vec3f right_, up_, forward_;
+    float viewWidth_mm_;
+    int width_, height_;
+};
+
+// One pixel per surface voxel: a non-void voxel with a face neighbour that is
+// void (or outside the grid). The pixel's ray starts at the closest point p
+// of the mesh to the voxel centre, offset outwards by a small epsilon along
+// that triangle's outward normal n, and travels along -n: the value is the
+// radiance leaving the surface near the voxel along its normal.
+class SurfaceVoxelSensor : public Sensor {
+public:
+    struct Pixel {
+        Vec3i voxel;
+        Point3f surfacePoint_mm;
+        Vec3f normal;  // outward
+    };
+
+    // surfaceVoxels: from LabelGrid::surfaceVoxels().
+    SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,
+                       const std::vector<Vec3i>& surfaceVoxels);
+    size_t pixelCount() const override { return pixels_.size(); }
+    Ray generateRay(size_t pixel, float, float) const override;
+    int imageWidth() const override { return atlasWidth_; }
+    int imageHeight() const override { return atlasHeight_; }
+    int64_t pixelImageIndex(size_t pixel) const override { return atlasIndex_[pixel]; }
+
+    const std::vector<Pixel>& pixels() const { return pixels_; }
+    float rayOffset_mm() const { return rayOffset_mm_; }
+
+private:
+    void buildAtlas(const GridFrame& frame);
+
+    std::vector<Pixel> pixels_;
+    std::vector<int64_t> atlasIndex_;
+    int atlasWidth_ = 0, atlasHeight_ = 0;
+    float rayOffset_mm_;
+};
+
+}  // namespace pl

@@ -1,0 +1,44 @@
+#include "integrators/render.h"
+
+#include <chrono>
+#include <mutex>
+
+#include "core/progress.h"
+#include "core/scheduler.h"
+
+namespace pl {
+
+RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
+    auto start = std::chrono::steady_clock::now();
+    const size_t pixels = sensor.pixelCount();
+    RenderResult result{Film(pixels), {}, 0};
+    VolPath volpath(scene, settings.volpath);
+
+    ProgressBar progress(uint64_t(pixels) * settings.channels.size(), "rendering",
+                         settings.showProgress);
+    std::mutex statsMutex;
+    // One pass per channel (Brecka renders R, G and B as separate images).
+    for (int channel : settings.channels) {
+        parallelForTiles(pixels, 64, [&](size_t begin, size_t end) {
+            LabelMedium::Sampler medium(*scene.medium);
+            PathStats stats;
+            for (size_t p = begin; p < end; ++p) {
+                for (uint32_t s = 0; s < settings.spp; ++s) {
+                    // The path's random stream depends only on (seed, pixel, sample, channel).
+                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
+                    float u0 = rng.uniform(), u1 = rng.uniform();
+                    Ray ray = sensor.generateRay(p, u0, u1);
+                    result.film.add(p, channel, volpath.Li(ray, channel, medium, rng, stats));
+                }
+            }
+            progress.advance(end - begin);
+            std::lock_guard<std::mutex> lock(statsMutex);
+            result.stats += stats;
+        });
+    }
+    progress.finish();
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+}  // namespace pl

@@ -1,0 +1,32 @@
+// The render driver: runs an integrator for every sensor pixel, sample and
+// channel on the tile scheduler, and accumulates a Film.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/film.h"
+#include "core/sensors.h"
+#include "integrators/scene.h"
+#include "integrators/volpath.h"
+
+namespace pl {
+
+struct RenderSettings {
+    std::string integrator = "volpath";
+    uint32_t spp = 16;
+    uint64_t seed = 1;
+    std::vector<int> channels{0, 1, 2};  // one pass per channel, in this order
+    VolPathOptions volpath;
+    bool showProgress = false;
+};
+
+struct RenderResult {
+    Film film;
+    PathStats stats;
+    double seconds = 0;
+};
+
+RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
+
+}  // namespace pl

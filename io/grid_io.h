@@ -1,0 +1,37 @@
+// Label grid files (see docs/grid-formats.md):
+//  - OpenVDB .vdb: a grid named "labels" (8-bit, or int32/float holding
+//    integer labels); background = void label.
+//  - research LabelGrid .bin, or gzipped .gz: int32 res[3]; float64
+//    bbox_min[3], bbox_max[3]; uint8 labels, x fastest.
+//  - Mitsuba 0.6 .vol: "VOL" 3, int32 encoding (1 float32, 3 uint8),
+//    int32 res[3], int32 channels (1), float32 bbox[6], data x fastest.
+// Plus the surface-voxel result grids (Vec3 "radiance" and "stderr").
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "core/film.h"
+#include "media/label_grid.h"
+
+namespace pl {
+
+// Largest grid accepted, in voxels (a dense 2^36-voxel job is absurd for
+// printer-resolution objects and would not fit in memory as a dense read).
+constexpr uint64_t kMaxGridVoxels = uint64_t(1) << 36;
+
+// Reads by extension. voidLabel overrides the file's notion of void
+// (the .vdb background; 5, air, for formats without one).
+LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> voidLabel);
+
+void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file);
+void writeLabelGridBin(const LabelGrid& grid, const std::filesystem::path& file);  // .bin or .gz
+void writeLabelGridVol(const LabelGrid& grid, const std::filesystem::path& file);
+
+// Surface-voxel results at the voxels' own index coordinates, in the label
+// grid's transform: Vec3 grids "radiance" and "stderr".
+void writeSurfaceResultVdb(const GridFrame& frame, const std::vector<Vec3i>& voxels,
+                           const Film& film, const std::filesystem::path& file);
+
+}  // namespace pl

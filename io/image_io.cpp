@@ -1,0 +1,105 @@
+#include "io/image_io.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "io/input_error.h"
+#include "io/output_file.h"
+
+namespace pl {
+
+namespace {
+float linearToSrgb(float v) {
+    v = std::clamp(v, 0.0f, 1.0f);
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+void writeImage(const std::filesystem::path& file, const OIIO::ImageSpec& spec, const void* data) {
+    OutputFile out(file);
+    auto img = OIIO::ImageOutput::create(out.tempPath().string());
+    if (!img) throw InputError(file.string(), "cannot create image writer: " + OIIO::geterror());
+    if (!img->open(out.tempPath().string(), spec) || !img->write_image(spec.format, data) ||
+        !img->close())
+        throw InputError(file.string(), "cannot write image: " + img->geterror());
+    img.reset();
+    out.commit();
+}
+}  // namespace
+
+RadianceImage filmToImage(const Film& film, const Sensor& sensor) {
+    RadianceImage im;
+    im.width = sensor.imageWidth();
+    im.height = sensor.imageHeight();
+    size_t n = size_t(im.width) * im.height;
+    im.mean.assign(n, RGB{0, 0, 0});
+    im.standardError.assign(n, RGB{0, 0, 0});
+    im.coverage.assign(n, 0.0f);
+    for (size_t p = 0; p < film.pixelCount(); ++p) {
+        int64_t i = sensor.pixelImageIndex(p);
+        if (i < 0) continue;
+        im.mean[size_t(i)] = film.meanRGB(p);
+        im.standardError[size_t(i)] = film.standardErrorRGB(p);
+        im.coverage[size_t(i)] = 1.0f;
+    }
+    return im;
+}
+
+void writeExr(const RadianceImage& image, const std::filesystem::path& file) {
+    OIIO::ImageSpec spec(image.width, image.height, 7, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A", "stderr.R", "stderr.G", "stderr.B"};
+    spec.alpha_channel = 3;
+    spec.attribute("compression", "zip");
+    std::vector<float> data(size_t(image.width) * image.height * 7);
+    for (size_t i = 0; i < image.mean.size(); ++i) {
+        float* px = &data[i * 7];
+        for (int c = 0; c < 3; ++c) {
+            px[c] = image.mean[i][c];
+            px[4 + c] = image.standardError[i][c];
+        }
+        px[3] = image.coverage[i];
+    }
+    writeImage(file, spec, data.data());
+}
+
+void writePng(const RadianceImage& image, const std::filesystem::path& file) {
+    OIIO::ImageSpec spec(image.width, image.height, 3, OIIO::TypeDesc::UINT8);
+    std::vector<uint8_t> data(size_t(image.width) * image.height * 3);
+    for (size_t i = 0; i < image.mean.size(); ++i)
+        for (int c = 0; c < 3; ++c)
+            data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(image.mean[i][c])));
+    writeImage(file, spec, data.data());
+}
+
+RadianceImage readExr(const std::filesystem::path& file) {
+    auto in = OIIO::ImageInput::open(file.string());
+    if (!in) throw InputError(file.string(), "cannot read image: " + OIIO::geterror());
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.nchannels != 7) throw InputError(file.string(), "not a printlight EXR (7 channels)");
+    RadianceImage im;
+    im.width = spec.width;
+    im.height = spec.height;
+    std::vector<float> data(size_t(im.width) * im.height * 7);
+    if (!in->read_image(0, 0, 0, 7, OIIO::TypeDesc::FLOAT, data.data()))
+        throw InputError(file.string(), "cannot read image: " + in->geterror());
+    size_t n = size_t(im.width) * im.height;
+    im.mean.resize(n);
+    im.standardError.resize(n);
+    im.coverage.resize(n);
+    // EXR stores channels sorted by name: look each one up.
+    int ch[7];
+    const char* names[7] = {"R", "G", "B", "A", "stderr.R", "stderr.G", "stderr.B"};
+    for (int k = 0; k < 7; ++k) {
+        ch[k] = spec.channelindex(names[k]);
+        if (ch[k] < 0) throw InputError(file.string(), std::string("missing channel ") + names[k]);
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const float* px = &data[i * 7];
+        im.mean[i] = {px[ch[0]], px[ch[1]], px[ch[2]]};
+        im.coverage[i] = px[ch[3]];
+        im.standardError[i] = {px[ch[4]], px[ch[5]], px[ch[6]]};
+    }
+    return im;
+}
+
+}  // namespace pl

@@ -1,0 +1,15 @@
+// Materials JSON: a list of {"label", "name", "albedo": [r,g,b],
+// "density": [r,g,b] (sigma_t, 1/mm), "anisotropy": [r,g,b] (HG g)},
+// optionally "ior"; the format of the public research code of Rittig et
+// al. 2021. See docs/materials-format.md.
+#pragma once
+
+#include <filesystem>
+
+#include "media/materials.h"
+
+namespace pl {
+
+MaterialTable loadMaterials(const std::filesystem::path& file);
+
+}  // namespace pl

@@ -1,0 +1,162 @@
+#include "io/scene_io.h"
+
+#include <cmath>
+
+#include "io/grid_io.h"
+#include "io/input_error.h"
+#include "io/json_util.h"
+#include "io/materials_io.h"
+#include "io/mesh_io.h"
+
+namespace pl {
+
+namespace {
+constexpr int kMaxImageSide = 16384;
+}
+
+std::optional<std::vector<int>> parseChannels(const std::string& s) {
+    if (s == "r") return std::vector<int>{0};
+    if (s == "g") return std::vector<int>{1};
+    if (s == "b") return std::vector<int>{2};
+    if (s == "rgb") return std::vector<int>{0, 1, 2};
+    return std::nullopt;
+}
+
+SceneDescription parseScene(const std::filesystem::path& sceneFile) {
+    JsonReader json(sceneFile);
+    const nlohmann::json& root = json.root();
+    if (!root.is_object()) json.fail("", "must be a JSON object");
+    json.expectOnlyKeys(root, "", {"object", "environment", "sensor", "render", "output", "comment"});
+    SceneDescription d;
+    d.sceneFile = sceneFile;
+    std::filesystem::path dir = sceneFile.parent_path();
+
+    // object
+    const auto& obj = json.object(root, "object", "");
+    json.expectOnlyKeys(obj, "object", {"mesh", "labels", "materials", "ior", "void_label"});
+    d.meshFile = dir / json.string(obj, "mesh", "object");
+    d.labelsFile = dir / json.string(obj, "labels", "object");
+    d.materialsFile = dir / json.string(obj, "materials", "object");
+    d.ior = float(json.number(obj, "ior", "object", 1.5));
+    if (!(d.ior > 0)) json.fail("object.ior", "must be positive");
+    if (obj.contains("void_label")) {
+        int64_t v = json.integer(obj, "void_label", "object");
+        if (v < 0 || v > 255) json.fail("object.void_label", "must be in 0..255");
+        d.voidLabel = Label(v);
+    }
+
+    // environment
+    if (root.contains("environment")) {
+        const auto& env = json.object(root, "environment", "");
+        json.expectOnlyKeys(env, "environment", {"radiance"});
+        d.environment = json.rgb(env, "radiance", "environment");
+        for (float v : d.environment)
+            if (v < 0) json.fail("environment.radiance", "must not be negative");
+    }
+
+    // sensor
+    const auto& sen = json.object(root, "sensor", "");
+    SensorDescription& s = d.sensor;
+    s.type = json.string(sen, "type", "sensor");
+    if (s.type == "surface_voxels") {
+        json.expectOnlyKeys(sen, "sensor", {"type"});
+    } else if (s.type == "perspective" || s.type == "orthographic") {
+        json.expectOnlyKeys(sen, "sensor", {"type", "position", "look_at", "up", "fov_deg", "width_mm", "resolution"});
+        s.pose.position_mm = json.vec3(sen, "position", "sensor");
+        s.pose.lookAt_mm = json.vec3(sen, "look_at", "sensor");
+        s.pose.up = sen.contains("up") ? json.vec3(sen, "up", "sensor") : Vec3f(0, 0, 1);
+        Vec3f fwd = s.pose.lookAt_mm - s.pose.position_mm;
+        if (!(length(fwd) > 0)) json.fail("sensor.look_at", "must differ from sensor.position");
+        if (!(length(cross(fwd, s.pose.up)) > 1e-6f * length(fwd) * length(s.pose.up)))
+            json.fail("sensor.up", "must not be parallel to the viewing direction");
+        if (s.type == "perspective") {
+            s.fovY_deg = float(json.number(sen, "fov_deg", "sensor", 30.0));
+            if (!(s.fovY_deg > 0 && s.fovY_deg < 180)) json.fail("sensor.fov_deg", "must be in (0, 180)");
+        } else {
+            s.viewWidth_mm = float(json.number(sen, "width_mm", "sensor"));
+            if (!(s.viewWidth_mm > 0)) json.fail("sensor.width_mm", "must be positive");
+        }
+        auto it = sen.find("resolution");
+        if (it == sen.end() || !it->is_array() || it->size() != 2 || !(*it)[0].is_number_integer() ||
+            !(*it)[1].is_number_integer())
+            json.fail("sensor.resolution", "must be [width, height] in pixels");
+        int64_t w = (*it)[0].get<int64_t>(), h = (*it)[1].get<int64_t>();
+        if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+            json.fail("sensor.resolution", "must be between 1 and " + std::to_string(kMaxImageSide) + " per side");
+        s.width = int(w);
+        s.height = int(h);
+    } else {
+        json.fail("sensor.type", "must be surface_voxels, perspective or orthographic");
+    }
+
+    // render
+    RenderSettings& r = d.render;
+    if (root.contains("render")) {
+        const auto& ren = json.object(root, "render", "");
+        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry"});
+        r.integrator = json.string(ren, "integrator", "render", "volpath");
+        if (r.integrator != "volpath") json.fail("render.integrator", "must be volpath");
+        int64_t spp = json.integer(ren, "spp", "render", 16);
+        if (spp < 1 || spp > (int64_t(1) << 24)) json.fail("render.spp", "must be in 1..16777216");
+        r.spp = uint32_t(spp);
+        int64_t seed = json.integer(ren, "seed", "render", 1);
+        if (seed < 0) json.fail("render.seed", "must not be negative");
+        r.seed = uint64_t(seed);
+        auto ch = parseChannels(json.string(ren, "channel", "render", "rgb"));
+        if (!ch) json.fail("render.channel", "must be r, g, b or rgb");
+        r.channels = *ch;
+        r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
+        r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
+    }
+
+    // output
+    if (root.contains("output")) {
+        const auto& out = json.object(root, "output", "");
+        json.expectOnlyKeys(out, "output", {"path"});
+        d.output = json.string(out, "path", "output");
+    } else {
+        d.output = sceneFile.stem();
+    }
+    return d;
+}
+
+Scene loadScene(const SceneDescription& d) {
+    Scene scene;
+    scene.ior = d.ior;
+    scene.environment = d.environment;
+    TriangleMesh mesh = loadMesh(d.meshFile);
+    MaterialTable materials = loadMaterials(d.materialsFile);
+    LabelGrid grid = loadLabelGrid(d.labelsFile, d.voidLabel);
+
+    // Every label in the grid needs a material (the void label may be vacuum).
+    auto hist = grid.histogram();
+    for (int l = 0; l < 256; ++l)
+        if (hist[size_t(l)] > 0 && l != grid.voidLabel() && !materials.byLabel[size_t(l)].defined)
+            throw InputError(d.labelsFile.string(),
+                             "label " + std::to_string(l) + " (" + std::to_string(hist[size_t(l)]) +
+                                 " voxels) is missing from the material table " + d.materialsFile.string());
+    if (hist[grid.voidLabel()] == grid.frame().voxelCount())
+        throw InputError(d.labelsFile.string(), "grid holds only void voxels");
+
+    // The mesh must overlap the grid.
+    scene.geometry = std::make_unique<Geometry>(std::move(mesh));
+    Bounds3f mb = scene.geometry->bounds();
+    Point3f glo = grid.frame().cornerMin_mm, ghi = grid.frame().cornerMax_mm();
+    for (int a = 0; a < 3; ++a)
+        if (mb.hi[a] <= glo[a] || mb.lo[a] >= ghi[a])
+            throw InputError(d.meshFile.string(), "mesh does not overlap the label grid " + d.labelsFile.string());
+
+    scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
+    return scene;
+}
+
+std::unique_ptr<Sensor> makeSensor(const SensorDescription& s, const Scene& scene) {
+    if (s.type == "perspective")
+        return std::make_unique<PerspectiveSensor>(s.pose, s.fovY_deg, s.width, s.height);
+    if (s.type == "orthographic")
+        return std::make_unique<OrthographicSensor>(s.pose, s.viewWidth_mm, s.width, s.height);
+    const LabelGrid& grid = scene.medium->grid();
+    return std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
+}
+
+}  // namespace pl

@@ -1,0 +1,51 @@
+// Scene JSON (documented key by key in docs/scene-format.md). Input paths
+// are relative to the scene file; the output path to the working directory.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "core/sensors.h"
+#include "integrators/render.h"
+#include "integrators/scene.h"
+
+namespace pl {
+
+struct SensorDescription {
+    std::string type = "surface_voxels";  // surface_voxels | perspective | orthographic
+    CameraPose pose;
+    float fovY_deg = 30.0f;
+    float viewWidth_mm = 10.0f;
+    int width = 0, height = 0;
+};
+
+struct SceneDescription {
+    std::filesystem::path sceneFile;
+    std::filesystem::path meshFile, labelsFile, materialsFile;
+    std::optional<Label> voidLabel;
+    float ior = 1.5f;
+    RGB environment{1, 1, 1};
+    SensorDescription sensor;
+    RenderSettings render;
+    std::filesystem::path output;  // without extension
+
+    std::vector<std::filesystem::path> inputFiles() const {
+        return {sceneFile, meshFile, labelsFile, materialsFile};
+    }
+};
+
+// Parses and validates the JSON; reads no other file.
+SceneDescription parseScene(const std::filesystem::path& sceneFile);
+
+// Loads mesh, label grid and materials and checks they fit together.
+Scene loadScene(const SceneDescription& desc);
+
+// Builds the sensor (for surface_voxels this enumerates the surface voxels).
+std::unique_ptr<Sensor> makeSensor(const SensorDescription& desc, const Scene& scene);
+
+// Parses "r", "g", "b" or "rgb".
+std::optional<std::vector<int>> parseChannels(const std::string& s);
+
+}  // namespace pl

@@ -1,0 +1,131 @@
+#include "media/label_grid.h"
+
+#include <algorithm>
+#include <mutex>
+
+#include "media/label_tree.h"
+
+namespace pl {
+
+void initializeVdb() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        openvdb::initialize();
+        if (!LabelVdbGrid::isRegistered()) LabelVdbGrid::registerGrid();
+    });
+}
+
+LabelGrid::LabelGrid() = default;
+LabelGrid::LabelGrid(GridFrame frame, Label voidLabel, std::shared_ptr<Tree> tree)
+    : frame_(frame), voidLabel_(voidLabel), tree_(std::move(tree)) {}
+LabelGrid::~LabelGrid() = default;
+LabelGrid::LabelGrid(LabelGrid&&) noexcept = default;
+LabelGrid& LabelGrid::operator=(LabelGrid&&) noexcept = default;
+
+LabelGrid LabelGrid::fromDense(const GridFrame& frame, const std::vector<Label>& labels,
+                               Label voidLabel) {
+    initializeVdb();
+    auto tree = std::make_shared<Tree>();
+    tree->vdb = std::make_shared<LabelTreeType>(voidLabel);
+    openvdb::tree::ValueAccessor<LabelTreeType> acc(*tree->vdb);
+    const Vec3i& r = frame.resolution;
+    size_t i = 0;
+    for (int z = 0; z < r.z; ++z)
+        for (int y = 0; y < r.y; ++y)
+            for (int x = 0; x < r.x; ++x, ++i)
+                if (labels[i] != voidLabel)
+                    acc.setValueOn(openvdb::Coord(frame.indexMin.x + x, frame.indexMin.y + y,
+                                                  frame.indexMin.z + z),
+                                   labels[i]);
+    // Uniform blocks become tiles: that is where the memory win comes from.
+    tree->vdb->prune();
+    return LabelGrid(frame, voidLabel, std::move(tree));
+}
+
+Label LabelGrid::label(const Vec3i& v) const {
+    if (!frame_.contains(v)) return voidLabel_;
+    return tree_->vdb->getValue(toCoord(v));
+}
+
+std::vector<Label> LabelGrid::toDense() const {
+    const Vec3i& r = frame_.resolution;
+    std::vector<Label> out(frame_.voxelCount(), voidLabel_);
+    Vec3i lo = frame_.indexMin;
+    visitRegions([&](const Vec3i& a, const Vec3i& b, Label l) {
+        for (int z = a.z; z <= b.z; ++z)
+            for (int y = a.y; y <= b.y; ++y)
+                for (int x = a.x; x <= b.x; ++x)
+                    out[(size_t(z - lo.z) * r.y + (y - lo.y)) * r.x + (x - lo.x)] = l;
+    });
+    return out;
+}
+
+void LabelGrid::visitRegions(
+    const std::function<void(const Vec3i&, const Vec3i&, Label)>& fn) const {
+    Vec3i fmin = frame_.indexMin, fmax = frame_.indexMax();
+    openvdb::CoordBBox frameBox(toCoord(fmin), openvdb::Coord(fmax.x - 1, fmax.y - 1, fmax.z - 1));
+    if (frame_.voxelCount() == 0) return;
+    // Everything not covered by the tree's values is background (void): the
+    // callers start from void, so visit only stored tiles and voxels.
+    for (auto it = tree_->vdb->cbeginValueAll(); it; ++it) {
+        openvdb::CoordBBox box;
+        it.getBoundingBox(box);
+        box.intersect(frameBox);
+        if (box.empty()) continue;
+        Vec3i lo(box.min().x(), box.min().y(), box.min().z());
+        Vec3i hi(box.max().x(), box.max().y(), box.max().z());
+        fn(lo, hi, *it);
+    }
+}
+
+std::array<uint64_t, 256> LabelGrid::histogram() const {
+    std::array<uint64_t, 256> h{};
+    uint64_t visited = 0;
+    visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
+        uint64_t n = uint64_t(hi.x - lo.x + 1) * uint64_t(hi.y - lo.y + 1) * uint64_t(hi.z - lo.z + 1);
+        h[l] += n;
+        visited += n;
+    });
+    // Voxels with no stored value hold the background label.
+    h[voidLabel_] += frame_.voxelCount() - visited;
+    return h;
+}
+
+uint64_t LabelGrid::memoryBytes() const { return tree_->vdb->memUsage(); }
+
+}  // namespace pl
+
+namespace pl {
+
+std::vector<Vec3i> LabelGrid::surfaceVoxels() const {
+    std::vector<Vec3i> out;
+    openvdb::tree::ValueAccessor<const LabelTreeType> acc(*tree_->vdb);
+    auto isVoid = [&](const Vec3i& v) {
+        return !frame_.contains(v) || acc.getValue(toCoord(v)) == voidLabel_;
+    };
+    static const Vec3i kFaceNeighbours[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                             {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+    auto check = [&](const Vec3i& v) {
+        for (const Vec3i& o : kFaceNeighbours)
+            if (isVoid({v.x + o.x, v.y + o.y, v.z + o.z})) {
+                out.push_back(v);
+                return;
+            }
+    };
+    visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
+        if (l == voidLabel_) return;
+        // Inside a uniform tile only voxels on the tile's faces can touch void.
+        for (int z = lo.z; z <= hi.z; ++z)
+            for (int y = lo.y; y <= hi.y; ++y) {
+                bool interiorRow = z > lo.z && z < hi.z && y > lo.y && y < hi.y;
+                for (int x = lo.x; x <= hi.x; x = (interiorRow && x == lo.x && hi.x > lo.x) ? hi.x : x + 1)
+                    check({x, y, z});
+            }
+    });
+    std::sort(out.begin(), out.end(), [](const Vec3i& a, const Vec3i& b) {
+        return a.z != b.z ? a.z < b.z : (a.y != b.y ? a.y < b.y : a.x < b.x);
+    });
+    return out;
+}
+
+}  // namespace pl

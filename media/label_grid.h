@@ -1,0 +1,61 @@
+// The label grid: one 8-bit material id per voxel, stored sparsely in an
+// OpenVDB tree (5-4-3). OpenVDB types stay behind this interface; only
+// media/*.cpp and io/grid_io.cpp see them (through media/label_tree.h).
+// Spaces and placement: core/grid_frame.h.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "core/grid_frame.h"
+#include "core/vecmath.h"
+
+namespace pl {
+
+using Label = uint8_t;
+
+class LabelGrid {
+public:
+    struct Tree;  // the OpenVDB tree, defined in media/label_tree.h
+
+    LabelGrid();
+    LabelGrid(GridFrame frame, Label voidLabel, std::shared_ptr<Tree> tree);
+    ~LabelGrid();
+    LabelGrid(LabelGrid&&) noexcept;
+    LabelGrid& operator=(LabelGrid&&) noexcept;
+
+    // Builds the sparse tree from dense labels, x fastest, then y, then z.
+    static LabelGrid fromDense(const GridFrame& frame, const std::vector<Label>& labels,
+                               Label voidLabel);
+
+    const GridFrame& frame() const { return frame_; }
+    Label voidLabel() const { return voidLabel_; }
+    // Label of a voxel (void outside the frame). Slow path: no cached accessor.
+    Label label(const Vec3i& v) const;
+    // Dense copy over the frame, x fastest.
+    std::vector<Label> toDense() const;
+
+    // Visits every constant region inside the frame: whole tiles once, leaf
+    // voxels one by one. Bounds are inclusive voxel coordinates.
+    void visitRegions(const std::function<void(const Vec3i& lo, const Vec3i& hi, Label)>& fn) const;
+    // Number of voxels of each label inside the frame.
+    std::array<uint64_t, 256> histogram() const;
+    // Non-void voxels with a face neighbour that is void or outside the frame,
+    // sorted by (z, y, x).
+    std::vector<Vec3i> surfaceVoxels() const;
+    // Bytes held by the sparse tree.
+    uint64_t memoryBytes() const;
+
+    const Tree& tree() const { return *tree_; }
+    std::shared_ptr<Tree> treePtr() const { return tree_; }
+
+private:
+    GridFrame frame_;
+    Label voidLabel_ = 0;
+    std::shared_ptr<Tree> tree_;
+};
+
+}  // namespace pl

@@ -1,0 +1,61 @@
+// The heterogeneous medium inside the object: label grid + material table +
+// per-brick majorants. Samplers are per thread (each owns an OpenVDB value
+// accessor) and are never shared.
+#pragma once
+
+#include <array>
+#include <memory>
+
+#include "core/rng.h"
+#include "media/label_grid.h"
+#include "media/majorant_grid.h"
+#include "media/materials.h"
+#include "media/trackers.h"
+
+namespace pl {
+
+class LabelMedium {
+public:
+    LabelMedium(LabelGrid grid, MaterialTable materials);
+
+    const LabelGrid& grid() const { return grid_; }
+    const GridFrame& frame() const { return grid_.frame(); }
+    const MaterialTable& materials() const { return materials_; }
+    const MajorantGrid& majorants() const { return majorants_; }
+    const ChannelLut& lut(int channel) const { return luts_[channel]; }
+
+    CellRay toCellRay(const Ray& r) const {
+        return {{r.o.x * scale_.x + offset_.x, r.o.y * scale_.y + offset_.y,
+                 r.o.z * scale_.z + offset_.z},
+                {r.d.x * scale_.x, r.d.y * scale_.y, r.d.z * scale_.z}};
+    }
+    Vec3i voxelAt(const Point3f& p) const { return toCellRay({p, {0, 0, 0}}).voxelAt(0.0f); }
+
+    class Sampler {
+    public:
+        explicit Sampler(const LabelMedium& medium);
+        ~Sampler();
+        Sampler(const Sampler&) = delete;
+        Sampler& operator=(const Sampler&) = delete;
+
+        // Delta tracking along the ray up to tMax_mm.
+        FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
+        // Exact transmittance by regular tracking along the ray up to tMax_mm.
+        float transmittance(const Ray& ray, float tMax_mm, int channel);
+        Label labelAt(const Vec3i& voxel);
+
+    private:
+        struct Impl;
+        std::unique_ptr<Impl> impl_;
+        const LabelMedium& medium_;
+    };
+
+private:
+    LabelGrid grid_;
+    MaterialTable materials_;
+    std::array<ChannelLut, 3> luts_;
+    MajorantGrid majorants_;
+    Vec3f scale_, offset_;
+};
+
+}  // namespace pl

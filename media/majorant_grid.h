@@ -1,0 +1,50 @@
+// Per-brick bounds of sigma_t for each channel. A brick is 8^3 voxels,
+// aligned with OpenVDB's leaf nodes, so clear resin and void regions get
+// their own (small or zero) majorant instead of the global maximum
+// (the transparent-material problem, Brecka 4.6).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "media/label_grid.h"
+#include "media/materials.h"
+
+namespace pl {
+
+class MajorantGrid {
+public:
+    static constexpr int kBrickLog2 = 3;
+    static constexpr int kBrickSize = 1 << kBrickLog2;
+
+    MajorantGrid() = default;
+    MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts);
+
+    // Bricks [brickMin, brickMax) cover the grid frame.
+    const Vec3i& brickMin() const { return brickMin_; }
+    const Vec3i& brickMax() const { return brickMax_; }
+    float maxSigmaT(const Vec3i& brick, int channel) const { return at(brick).maxSigmaT[channel]; }
+    float minSigmaT(const Vec3i& brick, int channel) const { return at(brick).minSigmaT[channel]; }
+    // The largest sigma_t anywhere, per channel.
+    float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
+
+    static Vec3i brickOf(const Vec3i& voxel) {
+        return {voxel.x >> kBrickLog2, voxel.y >> kBrickLog2, voxel.z >> kBrickLog2};
+    }
+
+private:
+    struct Bounds {
+        RGB maxSigmaT{0, 0, 0};
+        RGB minSigmaT{0, 0, 0};
+    };
+    const Bounds& at(const Vec3i& b) const {
+        Vec3i r{brickMax_.x - brickMin_.x, brickMax_.y - brickMin_.y, 0};
+        return bricks_[(size_t(b.z - brickMin_.z) * r.y + (b.y - brickMin_.y)) * r.x +
+                       (b.x - brickMin_.x)];
+    }
+    Vec3i brickMin_, brickMax_;
+    std::vector<Bounds> bricks_;
+    RGB globalMax_{0, 0, 0};
+};
+
+}  // namespace pl

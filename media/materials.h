@@ -1,0 +1,46 @@
+// Material lookup table: per label and RGB channel an extinction coefficient
+// sigma_t (1/mm), a single-scattering albedo and a Henyey-Greenstein g.
+#pragma once
+
+#include <array>
+#include <string>
+
+#include "core/rgb.h"
+#include "media/label_grid.h"
+
+namespace pl {
+
+struct Material {
+    std::string name;
+    RGB sigmaT_perMm{0, 0, 0};
+    RGB albedo{0, 0, 0};
+    RGB g{0, 0, 0};
+    bool defined = false;
+};
+
+struct MaterialTable {
+    std::array<Material, 256> byLabel;
+};
+
+// The per-channel view the trackers read in their inner loops.
+struct ChannelLut {
+    std::array<float, 256> sigmaT_perMm{};
+    std::array<float, 256> albedo{};
+    std::array<float, 256> g{};
+
+    // The void label is vacuum unless the table defines it.
+    static ChannelLut build(const MaterialTable& table, Label voidLabel, int channel) {
+        ChannelLut lut;
+        for (int l = 0; l < 256; ++l) {
+            const Material& m = table.byLabel[l];
+            if (!m.defined) continue;
+            lut.sigmaT_perMm[l] = m.sigmaT_perMm[channel];
+            lut.albedo[l] = m.albedo[channel];
+            lut.g[l] = m.g[channel];
+        }
+        if (!table.byLabel[voidLabel].defined) lut.sigmaT_perMm[voidLabel] = 0.0f;
+        return lut;
+    }
+};
+
+}  // namespace pl
