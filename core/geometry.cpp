@@ -72,7 +72,7 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
                                : d <= args->query->radius;
     if (better) {
         args->query->radius = d;
-        state->best = {c, triangleNormal(m, prim), d, (a + b + v2) / 3.0f};
+        state->best = {c, triangleNormal(m, prim), d, prim};
         state->bestPrim = prim;
         state->found = true;
         return true;  // the query radius shrank
@@ -132,6 +132,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax) const 
     hit.p = ray.at(hit.t);
     hit.ng = triangleNormal(mesh_, prim);
     hit.ns = hit.ng;
+    hit.prim = prim;
     if (!mesh_.normals.empty()) {
         // Interpolate file normals with Embree's barycentrics (v0 + u e1 + v e2).
         float u = rh.hit.u, v = rh.hit.v;

@@ -30,13 +30,14 @@ struct SurfaceHit {
     Point3f p;
     Vec3f ng;  // outward geometric normal (unit)
     Vec3f ns;  // outward shading normal (unit; equals ng without file normals)
+    uint32_t prim;
 };
 
 struct ClosestSurfacePoint {
     Point3f p;
     Vec3f ng;  // outward normal of the triangle the point lies on
     float distance_mm;
-    Point3f triangleCentroid_mm;
+    uint32_t prim;
 };
 
 class Geometry {
@@ -52,6 +53,10 @@ public:
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
 
     const TriangleMesh& mesh() const { return mesh_; }
+    Point3f triangleCentroid(uint32_t prim) const {
+        const uint32_t* i = &mesh_.indices[3 * size_t(prim)];
+        return (mesh_.positions_mm[i[0]] + mesh_.positions_mm[i[1]] + mesh_.positions_mm[i[2]]) / 3.0f;
+    }
     Bounds3f bounds() const { return bounds_; }
     // Offset that moves a point off the surface robustly for this mesh's scale.
     float rayEpsilon_mm() const { return rayEpsilon_mm_; }

@@ -50,4 +50,15 @@ struct GridFrame {
     }
 };
 
+// The six face neighbours of a voxel, in the order of SurfaceVoxel's bits.
+constexpr Vec3i kFaceDirections[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                      {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+
+// A voxel of the object with at least one face towards void: bit k of
+// exposedFaces is set when the neighbour at kFaceDirections[k] is void.
+struct SurfaceVoxel {
+    Vec3i voxel;
+    uint8_t exposedFaces = 0;
+};
+
 }  // namespace pl

@@ -49,31 +49,60 @@ Ray OrthographicSensor::generateRay(size_t pixel, float u0, float u1) const {
 }
 
 SurfaceVoxelSensor::SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,
-                                       const std::vector<Vec3i>& surfaceVoxels)
+                                       const std::vector<SurfaceVoxel>& surfaceVoxels)
     : rayOffset_mm_(geometry.rayEpsilon_mm()) {
     pixels_.resize(surfaceVoxels.size());
     const Vec3f& s = frame.voxelSize_mm;
     float searchRadius_mm = 4.0f * std::sqrt(s.x * s.x + s.y * s.y + s.z * s.z);
     std::vector<uint8_t> missing(surfaceVoxels.size(), 0);
     tbb::parallel_for(size_t(0), surfaceVoxels.size(), [&](size_t i) {
-        Point3f c = frame.voxelCenter_mm(surfaceVoxels[i]);
-        auto cp = geometry.closestPoint(c, searchRadius_mm);
-        if (!cp) {
-            missing[i] = 1;
-            return;
+        const SurfaceVoxel& sv = surfaceVoxels[i];
+        Point3f c = frame.voxelCenter_mm(sv.voxel);
+
+        // Nearest exit crossing along the exposed faces' directions.
+        std::optional<SurfaceHit> best;
+        float bestDist = 1e30f;
+        for (int k = 0; k < 6; ++k) {
+            if (!(sv.exposedFaces & (1u << k))) continue;
+            const Vec3i& e = kFaceDirections[k];
+            Vec3f dir(float(e.x), float(e.y), float(e.z));
+            float h = std::abs(dot(dir, s));  // voxel extent along this axis
+            auto hit = geometry.intersect({c - dir * h, dir}, 2.0f * h);
+            if (!hit || dot(dir, hit->ng) <= 0) continue;  // must leave the object
+            float dist = length(hit->p - c);
+            if (dist < bestDist) {
+                bestDist = dist;
+                best = hit;
+            }
+        }
+        Point3f p;
+        Vec3f n;
+        uint32_t prim;
+        if (best) {
+            p = best->p;
+            n = best->ng;
+            prim = best->prim;
+        } else {
+            auto cp = geometry.closestPoint(c, searchRadius_mm);
+            if (!cp) {
+                missing[i] = 1;
+                return;
+            }
+            p = cp->p;
+            n = cp->ng;
+            prim = cp->prim;
         }
         // Points on edges or corners are nudged a little into their
         // triangle, so the inward ray does not run inside a neighbouring
         // face's plane where intersection is ill-conditioned.
-        Vec3f toCentroid = cp->triangleCentroid_mm - cp->p;
+        Vec3f toCentroid = geometry.triangleCentroid(prim) - p;
         float dist = length(toCentroid);
-        Point3f p = cp->p;
         if (dist > 0) p = p + toCentroid * (std::min(kEdgeNudge_mm, 0.5f * dist) / dist);
-        pixels_[i] = {surfaceVoxels[i], p, cp->ng};
+        pixels_[i] = {sv.voxel, p, n};
     });
     for (size_t i = 0; i < missing.size(); ++i)
         if (missing[i]) {
-            const Vec3i& v = surfaceVoxels[i];
+            const Vec3i& v = surfaceVoxels[i].voxel;
             throw std::runtime_error(
                 "surface voxel (" + std::to_string(v.x) + "," + std::to_string(v.y) + "," +
                 std::to_string(v.z) + ") is more than " + std::to_string(searchRadius_mm) +

@@ -64,10 +64,14 @@ private:
 };
 
 // One pixel per surface voxel: a non-void voxel with a face neighbour that is
-// void (or outside the grid). The pixel's ray starts at the closest point p
-// of the mesh to the voxel centre, offset outwards by a small epsilon along
-// that triangle's outward normal n, and travels along -n: the value is the
-// radiance leaving the surface near the voxel along its normal.
+// void (or outside the grid). Its surface point p is where the mesh is
+// crossed, leaving the object, on the line through the voxel centre along an
+// exposed face's direction (the nearest crossing over the exposed faces,
+// searched one voxel either side of the centre); if no such crossing exists,
+// the closest point of the mesh to the centre. The ray starts at p offset
+// outwards by a small epsilon along the outward normal n of the triangle
+// there and travels along -n: the value is the radiance leaving the surface
+// at p along its normal. Full description: docs/surface-voxel-sensor.md.
 class SurfaceVoxelSensor : public Sensor {
 public:
     struct Pixel {
@@ -78,7 +82,7 @@ public:
 
     // surfaceVoxels: from LabelGrid::surfaceVoxels().
     SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,
-                       const std::vector<Vec3i>& surfaceVoxels);
+                       const std::vector<SurfaceVoxel>& surfaceVoxels);
     size_t pixelCount() const override { return pixels_.size(); }
     Ray generateRay(size_t pixel, float, float) const override;
     int imageWidth() const override { return atlasWidth_; }

@@ -97,20 +97,19 @@ uint64_t LabelGrid::memoryBytes() const { return tree_->vdb->memUsage(); }
 
 namespace pl {
 
-std::vector<Vec3i> LabelGrid::surfaceVoxels() const {
-    std::vector<Vec3i> out;
+std::vector<SurfaceVoxel> LabelGrid::surfaceVoxels() const {
+    std::vector<SurfaceVoxel> out;
     openvdb::tree::ValueAccessor<const LabelTreeType> acc(*tree_->vdb);
     auto isVoid = [&](const Vec3i& v) {
         return !frame_.contains(v) || acc.getValue(toCoord(v)) == voidLabel_;
     };
-    static const Vec3i kFaceNeighbours[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                             {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     auto check = [&](const Vec3i& v) {
-        for (const Vec3i& o : kFaceNeighbours)
-            if (isVoid({v.x + o.x, v.y + o.y, v.z + o.z})) {
-                out.push_back(v);
-                return;
-            }
+        uint8_t exposed = 0;
+        for (int k = 0; k < 6; ++k) {
+            const Vec3i& o = kFaceDirections[k];
+            if (isVoid({v.x + o.x, v.y + o.y, v.z + o.z})) exposed |= uint8_t(1u << k);
+        }
+        if (exposed) out.push_back({v, exposed});
     };
     visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
         if (l == voidLabel_) return;
@@ -122,8 +121,9 @@ std::vector<Vec3i> LabelGrid::surfaceVoxels() const {
                     check({x, y, z});
             }
     });
-    std::sort(out.begin(), out.end(), [](const Vec3i& a, const Vec3i& b) {
-        return a.z != b.z ? a.z < b.z : (a.y != b.y ? a.y < b.y : a.x < b.x);
+    std::sort(out.begin(), out.end(), [](const SurfaceVoxel& a, const SurfaceVoxel& b) {
+        return a.voxel.z != b.voxel.z ? a.voxel.z < b.voxel.z
+                                      : (a.voxel.y != b.voxel.y ? a.voxel.y < b.voxel.y : a.voxel.x < b.voxel.x);
     });
     return out;
 }

@@ -45,7 +45,7 @@ public:
     std::array<uint64_t, 256> histogram() const;
     // Non-void voxels with a face neighbour that is void or outside the frame,
     // sorted by (z, y, x).
-    std::vector<Vec3i> surfaceVoxels() const;
+    std::vector<SurfaceVoxel> surfaceVoxels() const;
     // Bytes held by the sparse tree.
     uint64_t memoryBytes() const;
 

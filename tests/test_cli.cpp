@@ -1,0 +1,254 @@
+// The printlight command line: each bad input of DESIGN.md section 7 gives a
+// one-line error naming the file, a non-zero exit and no output file; good
+// input writes EXR, PNG and VDB and a summary line; --threads does not
+// change a single bit of the result.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "io/grid_io.h"
+#include "io/image_io.h"
+#include "io/mesh_io.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+    int exitCode;
+    std::string out, err;
+};
+
+std::string readText(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+CliRun printlight(const std::string& args, const fs::path& dir) {
+    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >" + (dir / "stdout.txt").string() +
+                      " 2>" + (dir / "stderr.txt").string();
+    int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),
+            readText(dir / "stderr.txt")};
+}
+
+void writeText(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
+
+// A small valid scene: 2 mm white cube, 0.1 mm voxels, surface-voxel sensor.
+struct TestScene {
+    fs::path dir;
+    nlohmann::json scene;
+    explicit TestScene(const std::string& name) : dir(test::freshTempDir("cli_" + name)) {
+        writeObj(test::boxMesh({0, 0, 0}, {2, 2, 2}), dir / "cube.obj");
+        writeLabelGridBin(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }),
+                          dir / "grid.bin");
+        fs::copy_file(test::sourceDir() / "data/materials/resins_illustrative.json", dir / "materials.json");
+        scene = {{"object", {{"mesh", "cube.obj"}, {"labels", "grid.bin"}, {"materials", "materials.json"}, {"ior", 1.5}}},
+                 {"sensor", {{"type", "surface_voxels"}}},
+                 {"render", {{"spp", 2}, {"seed", 7}}}};
+    }
+    fs::path write() const {
+        writeText(dir / "scene.json", scene.dump(2));
+        return dir / "scene.json";
+    }
+    fs::path out() const { return dir / "out" / "result"; }
+    CliRun render(const std::string& extra = "") const {
+        return printlight("render " + write().string() + " -o " + out().string() + " " + extra, dir);
+    }
+    bool anyOutput() const {
+        if (!fs::exists(out().parent_path())) return false;
+        return !fs::is_empty(out().parent_path());  // not even a temporary file
+    }
+};
+
+void expectCleanFailure(const TestScene& s, const CliRun& r, const std::string& fileNeedle,
+                        const std::string& problemNeedle) {
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    ASSERT_FALSE(r.err.empty());
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "not one line: " << r.err;
+    EXPECT_EQ(r.err.rfind("printlight: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(fileNeedle), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(problemNeedle), std::string::npos) << r.err;
+    EXPECT_FALSE(s.anyOutput()) << "output written despite the error";
+    EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(Cli, GoodSceneWritesAllOutputsAndASummary) {
+    TestScene s("good");
+    CliRun r = s.render("--threads 2");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* ext : {".exr", ".png", ".vdb"}) EXPECT_TRUE(fs::exists(s.out().string() + ext)) << ext;
+    EXPECT_NE(r.out.find("paths/s"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("scattering events/s"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    // Exactly the outputs: no stray temporary files.
+    size_t files = 0;
+    for (const auto& e : fs::directory_iterator(s.out().parent_path())) files += e.is_regular_file();
+    EXPECT_EQ(files, 3u);
+    RadianceImage im = readExr(s.out().string() + ".exr");
+    double sum = 0, covered = 0;
+    for (size_t i = 0; i < im.mean.size(); ++i) {
+        sum += im.mean[i][0] * im.coverage[i];
+        covered += im.coverage[i];
+    }
+    EXPECT_GT(covered, 0);
+    EXPECT_GT(sum / covered, 0.05);  // a white cube is bright
+}
+
+TEST(Cli, SameSeedSameBitsWhateverTheThreadCount) {
+    TestScene s("threads");
+    ASSERT_EQ(s.render("--threads 1").exitCode, 0);
+    RadianceImage a = readExr(s.out().string() + ".exr");
+    fs::remove_all(s.out().parent_path());
+    ASSERT_EQ(s.render("--threads 2").exitCode, 0);
+    RadianceImage b = readExr(s.out().string() + ".exr");
+    ASSERT_EQ(a.mean.size(), b.mean.size());
+    for (size_t i = 0; i < a.mean.size(); ++i) {
+        ASSERT_EQ(a.mean[i], b.mean[i]) << i;
+        ASSERT_EQ(a.standardError[i], b.standardError[i]) << i;
+    }
+}
+
+TEST(Cli, MalformedSceneJson) {
+    TestScene s("malformed");
+    s.write();
+    writeText(s.dir / "scene.json", "{ \"object\": { \"mesh\": ");
+    CliRun r = printlight("render " + (s.dir / "scene.json").string() + " -o " + s.out().string(), s.dir);
+    expectCleanFailure(s, r, "scene.json", "malformed JSON");
+}
+
+TEST(Cli, MissingFiles) {
+    TestScene s("missing");
+    s.scene["object"]["mesh"] = "nowhere.obj";
+    expectCleanFailure(s, s.render(), "nowhere.obj", "cannot open");
+    CliRun r = printlight("render " + (s.dir / "no_scene.json").string(), s.dir);
+    expectCleanFailure(s, r, "no_scene.json", "cannot open");
+}
+
+TEST(Cli, GridWithoutLabels) {
+    TestScene s("nolabels");
+    // A VDB that holds a grid, but not one named "labels".
+    LabelGrid g = test::boxGrid({4, 4, 4}, {0.5f, 0.5f, 0.5f}, [](const Vec3i&) { return Label(4); });
+    writeLabelGridVdb(g, s.dir / "grid.vdb");
+    std::string bytes = readText(s.dir / "grid.vdb");
+    // Rename the grid in place: same length, different name.
+    auto pos = bytes.find("labels");
+    ASSERT_NE(pos, std::string::npos);
+    bytes.replace(pos, 6, "colors");
+    std::ofstream(s.dir / "grid.vdb", std::ios::binary) << bytes;
+    s.scene["object"]["labels"] = "grid.vdb";
+    expectCleanFailure(s, s.render(), "grid.vdb", "no grid named 'labels'");
+}
+
+TEST(Cli, LabelsMissingFromTheMaterialTable) {
+    TestScene s("missinglabel");
+    writeLabelGridBin(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(v.x < 10 ? 4 : 9); }),
+                      s.dir / "grid.bin");
+    expectCleanFailure(s, s.render(), "grid.bin", "label 9");
+}
+
+TEST(Cli, BadCoefficients) {
+    struct Case {
+        std::string materials, problem;
+    };
+    const std::vector<Case> cases = {
+        {R"([{"label":4,"albedo":[1,1,1],"density":[6,-9,24]}])", "must not be negative"},
+        {R"([{"label":4,"albedo":[1,1,1],"density":[6,NaN,24]}])", "malformed JSON"},
+        {R"([{"label":4,"albedo":[1,1,1],"density":[6,9,24],"anisotropy":[0.4,1.0,0.4]}])", "|g| < 1"},
+        {R"([{"label":4,"albedo":[1,1,1],"density":[6,9,24],"anisotropy":-1.5}])", "|g| < 1"},
+    };
+    for (size_t i = 0; i < cases.size(); ++i) {
+        TestScene s("coeff" + std::to_string(i));
+        writeText(s.dir / "materials.json", cases[i].materials);
+        expectCleanFailure(s, s.render(), "materials.json", cases[i].problem);
+    }
+}
+
+TEST(Cli, NonPositiveIor) {
+    for (double ior : {0.0, -1.5}) {
+        TestScene s("ior");
+        s.scene["object"]["ior"] = ior;
+        expectCleanFailure(s, s.render(), "scene.json", "object.ior");
+    }
+}
+
+TEST(Cli, NonClosedMesh) {
+    TestScene s("open");
+    TriangleMesh m = test::boxMesh({0, 0, 0}, {2, 2, 2});
+    m.indices.resize(m.indices.size() - 6);  // drop one face
+    writeObj(m, s.dir / "cube.obj");
+    expectCleanFailure(s, s.render(), "cube.obj", "not closed");
+}
+
+TEST(Cli, MeshThatDoesNotOverlapTheGrid) {
+    TestScene s("nooverlap");
+    writeObj(test::boxMesh({50, 50, 50}, {52, 52, 52}), s.dir / "cube.obj");
+    expectCleanFailure(s, s.render(), "cube.obj", "does not overlap");
+}
+
+TEST(Cli, AbsurdResolutions) {
+    TestScene s("absurd");
+    s.scene["sensor"] = {{"type", "perspective"}, {"position", {5, 5, 5}}, {"look_at", {1, 1, 1}},
+                         {"resolution", {100000, 20}}};
+    expectCleanFailure(s, s.render(), "scene.json", "sensor.resolution");
+    s.scene["sensor"]["resolution"] = {0, 10};
+    expectCleanFailure(s, s.render(), "scene.json", "sensor.resolution");
+    // A grid file whose header claims 2^60 voxels.
+    TestScene g("absurdgrid");
+    std::string bytes = readText(g.dir / "grid.bin");
+    int32_t huge[3] = {1 << 20, 1 << 20, 1 << 20};
+    bytes.replace(0, 12, reinterpret_cast<const char*>(huge), 12);
+    std::ofstream(g.dir / "grid.bin", std::ios::binary) << bytes;
+    expectCleanFailure(g, g.render(), "grid.bin", "too large");
+}
+
+TEST(Cli, UnknownSceneKeysAreTypos) {
+    TestScene s("typo");
+    s.scene["render"]["sps"] = 4;
+    expectCleanFailure(s, s.render(), "scene.json", "render.sps");
+}
+
+TEST(Cli, NeverOverwritesAnInput) {
+    TestScene s("overwrite");
+    writeLabelGridVdb(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }),
+                      s.dir / "labels.vdb");
+    s.scene["object"]["labels"] = "labels.vdb";
+    std::string before = readText(s.dir / "labels.vdb");
+    // -o DIR/labels would write DIR/labels.vdb: the input grid.
+    CliRun r = printlight("render " + s.write().string() + " -o " + (s.dir / "labels").string(), s.dir);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("overwrite an input"), std::string::npos) << r.err;
+    EXPECT_EQ(readText(s.dir / "labels.vdb"), before);
+    EXPECT_FALSE(fs::exists(s.dir / "labels.exr"));
+}
+
+TEST(Cli, UsageErrorsExitWithTwo) {
+    TestScene s("usage");
+    EXPECT_EQ(printlight("render", s.dir).exitCode, 2);
+    EXPECT_EQ(printlight("render " + s.write().string() + " --spp zero", s.dir).exitCode, 2);
+    EXPECT_EQ(printlight("frobnicate", s.dir).exitCode, 2);
+    EXPECT_FALSE(s.anyOutput());
+}
+
+TEST(Cli, InfoDescribesABundledGrid) {
+    TestScene s("info");
+    CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("241 x 123 x 375"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("white"), std::string::npos);
+    EXPECT_NE(r.out.find("ratio x"), std::string::npos);
+    CliRun bad = printlight("info " + (s.dir / "nothing.vdb").string(), s.dir);
+    EXPECT_EQ(bad.exitCode, 1);
+    EXPECT_NE(bad.err.find("nothing.vdb"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pl

@@ -1,0 +1,170 @@
+// Label grids round-trip unchanged through .vdb, LabelGrid .bin/.gz and
+// Mitsuba .vol; corrupt files give clear errors.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "core/rng.h"
+#include "io/grid_io.h"
+#include "io/input_error.h"
+#include "io/materials_io.h"
+#include "io/mesh_io.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+LabelGrid randomGrid() {
+    Rng rng(17, 3);
+    GridFrame f;
+    f.resolution = {37, 21, 50};
+    f.voxelSize_mm = {0.0423f, 0.0847f, 0.027f};
+    f.cornerMin_mm = {-1.5f, 2.25f, 0.5f};
+    std::vector<Label> labels(f.voxelCount());
+    for (size_t i = 0; i < labels.size(); ++i) {
+        // Blocks of one label (tiles after pruning) and noisy voxels.
+        uint32_t block = (uint32_t(i % 37) / 16) + 3 * (uint32_t(i / (37 * 21)) / 16);
+        labels[i] = (rng.uniform() < 0.7f) ? Label(block % 7) : Label(rng.next32() % 7);
+    }
+    return LabelGrid::fromDense(f, labels, 5);
+}
+
+void expectSameGrid(const LabelGrid& a, const LabelGrid& b) {
+    EXPECT_EQ(a.frame().resolution, b.frame().resolution);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a.frame().voxelSize_mm[k], b.frame().voxelSize_mm[k], 1e-6f);
+        EXPECT_NEAR(a.frame().cornerMin_mm[k], b.frame().cornerMin_mm[k], 1e-5f);
+    }
+    EXPECT_EQ(a.voidLabel(), b.voidLabel());
+    EXPECT_EQ(a.toDense(), b.toDense());
+    EXPECT_EQ(a.histogram(), b.histogram());
+}
+
+TEST(GridIo, RoundTripsThroughEveryFormat) {
+    auto dir = test::freshTempDir("grid_io");
+    LabelGrid grid = randomGrid();
+    for (const char* name : {"g.vdb", "g.bin", "g.gz", "g.vol"}) {
+        auto path = dir / name;
+        if (path.extension() == ".vdb") writeLabelGridVdb(grid, path);
+        else if (path.extension() == ".vol") writeLabelGridVol(grid, path);
+        else writeLabelGridBin(grid, path);
+        SCOPED_TRACE(name);
+        expectSameGrid(grid, loadLabelGrid(path, std::nullopt));
+    }
+}
+
+TEST(GridIo, SparseTreeIsMuchSmallerThanDenseFloats) {
+    GridFrame f;
+    f.resolution = {128, 64, 128};
+    std::vector<Label> labels(f.voxelCount(), 4);
+    LabelGrid grid = LabelGrid::fromDense(f, labels, 5);
+    // A uniform block collapses into tiles: only the fixed-size internal
+    // nodes remain (a 32^3-entry upper node is ~300 kB on its own).
+    EXPECT_LT(grid.memoryBytes() * 40, f.voxelCount() * 16);
+    EXPECT_EQ(grid.histogram()[4], f.voxelCount());
+}
+
+void writeBytes(const std::filesystem::path& p, const std::string& bytes) {
+    std::ofstream(p, std::ios::binary) << bytes;
+}
+
+void expectInputError(const std::function<void()>& f, const std::string& needle) {
+    try {
+        f();
+        ADD_FAILURE() << "no error; expected one mentioning '" << needle << "'";
+    } catch (const InputError& e) {
+        std::string msg = e.what();
+        EXPECT_NE(msg.find(needle), std::string::npos) << msg;
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << "multi-line message: " << msg;
+    }
+}
+
+TEST(GridIo, CorruptFilesGiveClearErrors) {
+    auto dir = test::freshTempDir("grid_io_bad");
+    LabelGrid grid = randomGrid();
+    writeLabelGridBin(grid, dir / "ok.bin");
+    std::ifstream in(dir / "ok.bin", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    writeBytes(dir / "truncated.bin", bytes.substr(0, bytes.size() - 100));
+    expectInputError([&] { loadLabelGrid(dir / "truncated.bin", std::nullopt); }, "truncated");
+    writeBytes(dir / "trailing.bin", bytes + "xyz");
+    expectInputError([&] { loadLabelGrid(dir / "trailing.bin", std::nullopt); }, "trailing");
+    std::string absurd = bytes;
+    int32_t huge[3] = {1 << 20, 1 << 20, 1 << 20};
+    absurd.replace(0, 12, reinterpret_cast<const char*>(huge), 12);
+    writeBytes(dir / "absurd.bin", absurd);
+    expectInputError([&] { loadLabelGrid(dir / "absurd.bin", std::nullopt); }, "too large");
+    int32_t negative[3] = {-4, 10, 10};
+    absurd.replace(0, 12, reinterpret_cast<const char*>(negative), 12);
+    writeBytes(dir / "negative.bin", absurd);
+    expectInputError([&] { loadLabelGrid(dir / "negative.bin", std::nullopt); }, "absurd resolution");
+    writeBytes(dir / "notgzip.gz", "this is not gzip at all, nor long enough");
+    expectInputError([&] { loadLabelGrid(dir / "notgzip.gz", std::nullopt); }, "notgzip.gz");
+    writeBytes(dir / "bad.vol", "VOX\x03 and more bytes here");
+    expectInputError([&] { loadLabelGrid(dir / "bad.vol", std::nullopt); }, "not a Mitsuba VOL");
+    writeBytes(dir / "bad.vdb", "definitely not a vdb file");
+    expectInputError([&] { loadLabelGrid(dir / "bad.vdb", std::nullopt); }, "bad.vdb");
+    expectInputError([&] { loadLabelGrid(dir / "missing.vdb", std::nullopt); }, "cannot open");
+    expectInputError([&] { loadLabelGrid(dir / "grid.txt", std::nullopt); }, "cannot open");
+    writeBytes(dir / "grid.txt", "x");
+    expectInputError([&] { loadLabelGrid(dir / "grid.txt", std::nullopt); }, "unknown label grid format");
+}
+
+TEST(MeshIo, ObjAndGltfCubesAgree) {
+    auto data = test::sourceDir() / "data/meshes";
+    TriangleMesh obj = loadMesh(data / "cube10.obj"), gltf = loadMesh(data / "cube10.gltf");
+    EXPECT_EQ(obj.triangleCount(), 12u);
+    EXPECT_EQ(gltf.triangleCount(), 12u);
+    Geometry a(std::move(obj)), b(std::move(gltf));
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_EQ(a.bounds().lo[k], b.bounds().lo[k]);
+        EXPECT_EQ(a.bounds().hi[k], b.bounds().hi[k]);
+    }
+    Ray r{{5, 5, -3}, {0, 0, 1}};
+    ASSERT_TRUE(a.intersect(r) && b.intersect(r));
+    EXPECT_FLOAT_EQ(a.intersect(r)->t, 3.0f);
+    EXPECT_FLOAT_EQ(b.intersect(r)->ng.z, -1.0f);  // outward normal of the bottom face
+}
+
+TEST(MeshIo, OpenAndInvertedMeshes) {
+    auto dir = test::freshTempDir("mesh_io");
+    TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 2, 3});
+    TriangleMesh open = box;
+    open.indices.resize(open.indices.size() - 3);
+    writeObj(open, dir / "open.obj");
+    expectInputError([&] { loadMesh(dir / "open.obj"); }, "not closed");
+    // Inverted winding is repaired (outward normals), not rejected.
+    TriangleMesh inverted = box;
+    for (size_t t = 0; t < inverted.triangleCount(); ++t) std::swap(inverted.indices[3 * t + 1], inverted.indices[3 * t + 2]);
+    writeObj(inverted, dir / "inverted.obj");
+    Geometry g(loadMesh(dir / "inverted.obj"));
+    auto hit = g.intersect({{0.5f, 1, -1}, {0, 0, 1}});
+    ASSERT_TRUE(hit);
+    EXPECT_FLOAT_EQ(hit->ng.z, -1.0f);
+    writeBytes(dir / "garbage.obj", "v 1 2\nf 1 2 3\n");
+    expectInputError([&] { loadMesh(dir / "garbage.obj"); }, "line 1");
+    writeBytes(dir / "garbage.gltf", "{ not json");
+    expectInputError([&] { loadMesh(dir / "garbage.gltf"); }, "malformed glTF");
+}
+
+TEST(MaterialsIo, ValidatesCoefficients) {
+    auto dir = test::freshTempDir("materials_io");
+    auto write = [&](const std::string& body) {
+        writeBytes(dir / "m.json", body);
+        return dir / "m.json";
+    };
+    MaterialTable t = loadMaterials(test::sourceDir() / "data/materials/resins_illustrative.json");
+    EXPECT_TRUE(t.byLabel[4].defined);
+    EXPECT_EQ(t.byLabel[4].sigmaT_perMm[2], 24.0f);
+    EXPECT_EQ(t.byLabel[1].sigmaT_perMm[0], 2.5f);
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":[1,1,1],"density":[-1,1,1]}])")); }, "must not be negative");
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":[1,1,1],"density":[1,1,1],"anisotropy":[1,0,0]}])")); }, "|g| < 1");
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":[1.2,1,1],"density":[1,1,1]}])")); }, "albedo");
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":[1,1,1],"density":[NaN,1,1]}])")); }, "malformed JSON");
+    expectInputError([&] { loadMaterials(write(R"([{"label":300,"albedo":1,"density":1}])")); }, "0..255");
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":1,"desnity":1}])")); }, "desnity");
+    expectInputError([&] { loadMaterials(write(R"([{"label":1,"albedo":1,"density":1},{"label":1,"albedo":1,"density":1}])")); }, "repeats");
+}
+
+}  // namespace
+}  // namespace pl

@@ -1,0 +1,159 @@
+// Delta tracking (free-flight distribution) and regular tracking
+// (transmittance) against analytic values on homogeneous and
+// piecewise-constant label media, through the OpenVDB-backed sampler.
+#include <gtest/gtest.h>
+
+#include "media/label_medium.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+using test::material;
+
+// Layers across x (voxel index ranges) with their sigma_t.
+struct Layer {
+    int x0, x1;
+    Label label;
+    float sigma;
+};
+const std::vector<Layer> kLayers = {
+    {0, 8, 6, 0.0f}, {8, 12, 0, 0.5f}, {12, 16, 1, 5.0f}, {16, 24, 2, 1.5f}, {24, 32, 3, 0.2f}};
+const Vec3f kVoxel{0.1f, 0.05f, 0.2f};  // anisotropic on purpose
+
+LabelMedium layeredMedium() {
+    MaterialTable t;
+    for (const Layer& l : kLayers) {
+        t.byLabel[l.label] = material({l.sigma, 2 * l.sigma, 0.5f * l.sigma}, {0.5f, 0.5f, 0.5f});
+    }
+    LabelGrid grid = test::boxGrid({32, 128, 32}, kVoxel, [](const Vec3i& v) {
+        for (const Layer& l : kLayers)
+            if (v.x >= l.x0 && v.x < l.x1) return l.label;
+        return test::kTestVoid;
+    });
+    return LabelMedium(std::move(grid), t);
+}
+
+// Optical depth along the ray from 0 to t (channel 0), from the layer planes.
+double layeredOpticalDepth(const Ray& r, double t) {
+    double tau = 0;
+    for (const Layer& l : kLayers) {
+        double a = (l.x0 * kVoxel.x - r.o.x) / r.d.x, b = (l.x1 * kVoxel.x - r.o.x) / r.d.x;
+        if (a > b) std::swap(a, b);
+        double lo = std::max(a, 0.0), hi = std::min(b, t);
+        if (hi > lo) tau += l.sigma * (hi - lo);
+    }
+    return tau;
+}
+
+Label layerLabelAt(float x_mm) {
+    for (const Layer& l : kLayers)
+        if (x_mm >= l.x0 * kVoxel.x && x_mm < l.x1 * kVoxel.x) return l.label;
+    return test::kTestVoid;
+}
+
+TEST(RegularTracking, TransmittanceOfLayeredMediumIsExact) {
+    LabelMedium medium = layeredMedium();
+    LabelMedium::Sampler sampler(medium);
+    // The ray starts outside the grid and crosses every layer obliquely.
+    Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    for (float tMax : {0.5f, 1.3f, 1.9f, 2.6f, 3.3f, 4.0f, 5.5f, 8.0f}) {
+        double expected = std::exp(-layeredOpticalDepth(r, tMax));
+        EXPECT_NEAR(sampler.transmittance(r, tMax, 0), expected, 2e-5 + 1e-4 * expected) << tMax;
+    }
+    // Exactly along the x axis and along voxel faces (y, z on integer cells).
+    Ray axis{{-1.0f, 10 * kVoxel.y, 4 * kVoxel.z}, {1, 0, 0}};
+    EXPECT_NEAR(sampler.transmittance(axis, 10.0f, 0), std::exp(-layeredOpticalDepth(axis, 10.0)), 1e-5);
+    // Backwards along -x from beyond the far side.
+    Ray back{{5.0f, 2.0f, 3.0f}, {-1, 0, 0}};
+    EXPECT_NEAR(sampler.transmittance(back, 10.0f, 0), std::exp(-layeredOpticalDepth(back, 10.0)), 1e-5);
+    // Channel 1 has twice the density.
+    EXPECT_NEAR(sampler.transmittance(r, 8.0f, 1), std::exp(-2 * layeredOpticalDepth(r, 8.0)), 1e-5);
+}
+
+TEST(RegularTracking, HomogeneousBeerLambert) {
+    MaterialTable t;
+    t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
+    LabelMedium medium(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }), t);
+    LabelMedium::Sampler sampler(medium);
+    Ray r{{0.05f, 0.5f, 0.5f}, normalize(Vec3f(1.0f, 0.2f, 0.1f))};
+    for (int c = 0; c < 3; ++c)
+        for (float d : {0.01f, 0.1f, 0.5f, 1.0f})
+            EXPECT_NEAR(sampler.transmittance(r, d, c), std::exp(-medium.lut(c).sigmaT_perMm[4] * d), 1e-5f);
+}
+
+// Free-flight distances: chi-square over distance bins plus an escape bin.
+void checkFreeFlight(LabelMedium& medium, const Ray& r, float tMax, int channel,
+                     const std::function<double(double)>& tau, int n, uint64_t seed) {
+    LabelMedium::Sampler sampler(medium);
+    const int bins = 60;
+    std::vector<double> observed(bins + 1, 0), expected(bins + 1, 0);
+    Rng rng(seed, 11);
+    for (int i = 0; i < n; ++i) {
+        FreeFlight ff = sampler.sampleFreeFlight(r, tMax, channel, rng);
+        if (!ff.scattered) {
+            observed[bins] += 1;
+            continue;
+        }
+        ASSERT_GE(ff.t_mm, 0.0f);
+        ASSERT_LT(ff.t_mm, tMax);
+        observed[size_t(std::min(bins - 1, int(ff.t_mm / tMax * bins)))] += 1;
+    }
+    for (int b = 0; b < bins; ++b)
+        expected[size_t(b)] = n * (std::exp(-tau(tMax * b / bins)) - std::exp(-tau(tMax * (b + 1) / bins)));
+    expected[bins] = n * std::exp(-tau(tMax));
+    EXPECT_LT(test::chiSquareZ(observed, expected), test::kChiSquareZLimit);
+}
+
+TEST(DeltaTracking, HomogeneousFreeFlightIsExponential) {
+    MaterialTable t;
+    t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
+    LabelMedium medium(test::boxGrid({16, 16, 16}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }), t);
+    Ray r{{0.8f, 0.8f, 0.8f}, normalize(Vec3f(0.3f, -0.4f, 0.5f))};
+    float tMax = 0.7f;
+    for (int c = 0; c < 3; ++c) {
+        double sigma = medium.lut(c).sigmaT_perMm[4];
+        checkFreeFlight(medium, r, tMax, c, [&](double t) { return sigma * t; }, 100000, 10 + c);
+    }
+}
+
+TEST(DeltaTracking, LayeredFreeFlightMatchesAnalyticOpticalDepth) {
+    LabelMedium medium = layeredMedium();
+    Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    checkFreeFlight(medium, r, 6.0f, 0, [&](double t) { return layeredOpticalDepth(r, t); }, 200000, 3);
+    checkFreeFlight(medium, r, 6.0f, 1, [&](double t) { return 2 * layeredOpticalDepth(r, t); }, 200000, 4);
+}
+
+TEST(DeltaTracking, CollisionsReportTheLabelWhereTheyHappen) {
+    LabelMedium medium = layeredMedium();
+    LabelMedium::Sampler sampler(medium);
+    Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    Rng rng(8, 8);
+    int checked = 0;
+    for (int i = 0; i < 20000; ++i) {
+        FreeFlight ff = sampler.sampleFreeFlight(r, 6.0f, 0, rng);
+        if (!ff.scattered) continue;
+        float x = r.at(ff.t_mm).x;
+        // Away from layer planes (float round-off may pick either side).
+        if (std::abs(x / kVoxel.x - std::round(x / kVoxel.x)) < 1e-3f) continue;
+        ASSERT_EQ(ff.label, layerLabelAt(x)) << "x = " << x;
+        EXPECT_GT(medium.lut(0).sigmaT_perMm[ff.label], 0.0f);  // never in the clear layer
+        ++checked;
+    }
+    EXPECT_GT(checked, 10000);
+}
+
+TEST(Majorants, ClearAndVoidBricksGetTheirOwnBounds) {
+    LabelMedium medium = layeredMedium();
+    const MajorantGrid& maj = medium.majorants();
+    // Brick x = 0 holds only the clear layer (sigma 0); brick 1 holds 0.5 and 5.
+    EXPECT_EQ(maj.maxSigmaT({0, 0, 0}, 0), 0.0f);
+    EXPECT_EQ(maj.maxSigmaT({1, 0, 0}, 0), 5.0f);
+    EXPECT_EQ(maj.minSigmaT({1, 0, 0}, 0), 0.5f);
+    EXPECT_EQ(maj.maxSigmaT({2, 3, 1}, 0), 1.5f);
+    EXPECT_EQ(maj.minSigmaT({2, 3, 1}, 0), 1.5f);
+    EXPECT_EQ(maj.globalMaxSigmaT(1), 10.0f);
+}
+
+}  // namespace
+}  // namespace pl
