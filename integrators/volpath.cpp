@@ -63,7 +63,10 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                 if (options_.maxDepth >= 0 && ++depth > options_.maxDepth) return 0.0f;
                 float u0 = rng.uniform(), u1 = rng.uniform();
                 PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
-                ray = {ray.at(ff.t_mm), ps.dOut};
+                // Keep the vertex strictly inside: a collision within float
+                // round-off of the boundary could otherwise land outside.
+                float t = std::max(0.0f, std::min(ff.t_mm, exit->t - eps));
+                ray = {ray.at(t), ps.dOut};
                 continue;
             }
 

@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Sets printlight up on Debian 12: installs the Debian packages that are
+# missing (non-interactive, idempotent, quick when all are present),
+# configures and builds in Release, and generates the bundled label grids.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  cmake make g++ ccache pkg-config
+  libembree-dev libopenvdb-dev libboost-iostreams-dev
+  libopenimageio-dev libopencv-core-dev libtbb-dev
+  libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j"$(nproc)"
+
+# The bundled cube grids are generated, not committed (a few MB each).
+if [ ! -f data/grids/cube10_white.vdb ] || [ ! -f data/grids/cube10_pattern.vdb ]; then
+  build/make-test-data data/grids
+fi
+echo "setup: built build/printlight"
