@@ -10,26 +10,23 @@ namespace pl {
 namespace {
 constexpr float kEdgeNudge_mm = 1e-3f;  // 1 um, far below a voxel
 
-void cameraBasis(const CameraPose& pose, Vec3f& right, Vec3f& up, Vec3f& forward) {
-    forward = normalize(pose.lookAt_mm - pose.position_mm);
-    right = normalize(cross(forward, pose.up));
-    up = cross(right, forward);
-}
 }  // namespace
+
+CameraSensor::CameraSensor(const CameraPose& pose, int width, int height)
+    : origin_(pose.position_mm), width_(width), height_(height) {
+    forward_ = normalize(pose.lookAt_mm - pose.position_mm);
+    right_ = normalize(cross(forward_, pose.up));
+    up_ = cross(right_, forward_);
+}
 
 PerspectiveSensor::PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width,
                                      int height)
-    : origin_(pose.position_mm),
-      tanHalfFovY_(std::tan(0.5f * fovY_deg * kPi / 180.0f)),
-      width_(width),
-      height_(height) {
-    cameraBasis(pose, right_, up_, forward_);
-}
+    : CameraSensor(pose, width, height), tanHalfFovY_(std::tan(0.5f * fovY_deg * kPi / 180.0f)) {}
 
 Ray PerspectiveSensor::generateRay(size_t pixel, float u0, float u1) const {
     // Box-filtered pixel: uniform position inside the pixel footprint.
-    float x = (float(pixel % width_) + u0) / width_ * 2.0f - 1.0f;
-    float y = 1.0f - (float(pixel / width_) + u1) / height_ * 2.0f;
+    float x, y;
+    filmPosition(pixel, u0, u1, x, y);
     float aspect = float(width_) / float(height_);
     Vec3f d = forward_ + right_ * (x * tanHalfFovY_ * aspect) + up_ * (y * tanHalfFovY_);
     return {origin_, normalize(d)};
@@ -37,15 +34,13 @@ Ray PerspectiveSensor::generateRay(size_t pixel, float u0, float u1) const {
 
 OrthographicSensor::OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width,
                                        int height)
-    : origin_(pose.position_mm), viewWidth_mm_(viewWidth_mm), width_(width), height_(height) {
-    cameraBasis(pose, right_, up_, forward_);
-}
+    : CameraSensor(pose, width, height), viewWidth_mm_(viewWidth_mm) {}
 
 Ray OrthographicSensor::generateRay(size_t pixel, float u0, float u1) const {
-    float x = (float(pixel % width_) + u0) / width_ - 0.5f;
-    float y = 0.5f - (float(pixel / width_) + u1) / height_;
+    float x, y;
+    filmPosition(pixel, u0, u1, x, y);
     float viewHeight_mm = viewWidth_mm_ * float(height_) / float(width_);
-    return {origin_ + right_ * (x * viewWidth_mm_) + up_ * (y * viewHeight_mm), forward_};
+    return {origin_ + right_ * (0.5f * x * viewWidth_mm_) + up_ * (0.5f * y * viewHeight_mm), forward_};
 }
 
 SurfaceVoxelSensor::SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,

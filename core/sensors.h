@@ -33,34 +33,41 @@ struct CameraPose {
     Vec3f up{0, 1, 0};
 };
 
-class PerspectiveSensor : public Sensor {
+// A camera with a pose and a width x height image; subclasses project.
+class CameraSensor : public Sensor {
 public:
-    PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width, int height);
+    CameraSensor(const CameraPose& pose, int width, int height);
     size_t pixelCount() const override { return size_t(width_) * height_; }
-    Ray generateRay(size_t pixel, float u0, float u1) const override;
     int imageWidth() const override { return width_; }
     int imageHeight() const override { return height_; }
 
-private:
+protected:
+    // Film position of a jittered pixel sample in [-1, 1]^2, y up.
+    void filmPosition(size_t pixel, float u0, float u1, float& x, float& y) const {
+        x = (float(pixel % width_) + u0) / width_ * 2.0f - 1.0f;
+        y = 1.0f - (float(pixel / width_) + u1) / height_ * 2.0f;
+    }
     Point3f origin_;
     Vec3f right_, up_, forward_;
-    float tanHalfFovY_;
     int width_, height_;
 };
 
-class OrthographicSensor : public Sensor {
+class PerspectiveSensor : public CameraSensor {
 public:
-    OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width, int height);
-    size_t pixelCount() const override { return size_t(width_) * height_; }
+    PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width, int height);
     Ray generateRay(size_t pixel, float u0, float u1) const override;
-    int imageWidth() const override { return width_; }
-    int imageHeight() const override { return height_; }
 
 private:
-    Point3f origin_;
-    Vec3f right_, up_, forward_;
+    float tanHalfFovY_;
+};
+
+class OrthographicSensor : public CameraSensor {
+public:
+    OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width, int height);
+    Ray generateRay(size_t pixel, float u0, float u1) const override;
+
+private:
     float viewWidth_mm_;
-    int width_, height_;
 };
 
 // One pixel per surface voxel: a non-void voxel with a face neighbour that is
