@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 packages=(
   cmake make g++ ccache pkg-config
   libembree-dev libopenvdb-dev libboost-iostreams-dev
-  libopenimageio-dev libopencv-core-dev libtbb-dev
+  libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
 )
 missing=()
