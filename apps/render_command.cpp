@@ -93,6 +93,11 @@ int renderCommand(const std::vector<std::string>& argv) {
     RenderResult result = render(scene, *sensor, desc.render);
 
     RadianceImage image = filmToImage(result.film, *sensor);
+    std::string channels;
+    for (int c : desc.render.channels) channels += "rgb"[c];
+    image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
+                      {"sensor", desc.sensor.type},        {"spp", std::to_string(desc.render.spp)},
+                      {"seed", std::to_string(desc.render.seed)}, {"channels", channels}};
     writeExr(image, outputs[0]);
     writePng(image, outputs[1]);
     if (surface) {

@@ -50,6 +50,7 @@ void writeExr(const RadianceImage& image, const std::filesystem::path& file) {
     spec.channelnames = {"R", "G", "B", "A", "stderr.R", "stderr.G", "stderr.B"};
     spec.alpha_channel = 3;
     spec.attribute("compression", "zip");
+    for (const auto& [key, value] : image.metadata) spec.attribute("printlight:" + key, value);
     std::vector<float> data(size_t(image.width) * image.height * 7);
     for (size_t i = 0; i < image.mean.size(); ++i) {
         float* px = &data[i * 7];

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "core/film.h"
@@ -14,6 +16,9 @@ struct RadianceImage {
     int width = 0, height = 0;
     std::vector<RGB> mean, standardError;
     std::vector<float> coverage;  // 1 where a sensor pixel lands, else 0
+    // Written as "printlight:<key>" string attributes of the EXR header
+    // (scene, seed, spp, ...), so a result says how it was made.
+    std::vector<std::pair<std::string, std::string>> metadata;
 };
 
 // Lays the film out in the sensor's image (the atlas for surface voxels).
