@@ -66,7 +66,9 @@ void checkAgainstBruteForce(const Vec3f& o, const Vec3f& d, float tStart, float 
             return;
         }
         bool nearBoundary = std::min(t - segs[k].t0, segs[k].t1 - t) < tol;
-        if (!nearBoundary) ASSERT_EQ(segs[k].cell, cell) << "t=" << t;
+        if (!nearBoundary) {
+            ASSERT_EQ(segs[k].cell, cell) << "t=" << t;
+        }
     }
 }
 
