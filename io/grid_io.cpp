@@ -8,6 +8,7 @@
 
 #include <openvdb/io/File.h>
 
+#include "io/file_names.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"
@@ -17,12 +18,6 @@ namespace pl {
 namespace {
 
 constexpr Label kDefaultVoidLabel = 5;  // "air" in the research label convention
-
-std::string lowerExtension(const std::filesystem::path& p) {
-    std::string e = p.extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
 
 // Validates a resolution read from a file header.
 void checkResolution(const std::string& name, const int32_t res[3]) {

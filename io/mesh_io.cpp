@@ -10,18 +10,13 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "io/file_names.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 
 namespace pl {
 
 namespace {
-
-std::string lowerExtension(const std::filesystem::path& p) {
-    std::string e = p.extension().string();
-    for (char& c : e) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-}
 
 TriangleMesh loadObj(const std::filesystem::path& file) {
     const std::string name = file.string();
