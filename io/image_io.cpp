@@ -103,4 +103,38 @@ RadianceImage readExr(const std::filesystem::path& file) {
     return im;
 }
 
+Texture readTexture(const std::filesystem::path& file) {
+    auto in = OIIO::ImageInput::open(file.string());
+    if (!in) {
+        std::string msg = OIIO::geterror();
+        for (char& c : msg) if (c == '\n') c = ' ';
+        throw InputError(file.string(), "cannot read texture: " + msg);
+    }
+    const OIIO::ImageSpec& spec = in->spec();
+    if (spec.width <= 0 || spec.height <= 0 || spec.nchannels < 1 || int64_t(spec.width) * spec.height > (int64_t(1) << 28))
+        throw InputError(file.string(), "texture has an unusable size");
+    std::vector<float> data(size_t(spec.width) * spec.height * spec.nchannels);
+    if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
+        throw InputError(file.string(), "cannot read texture: " + in->geterror());
+    bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+    Texture t;
+    t.width = spec.width;
+    t.height = spec.height;
+    t.linear.resize(size_t(t.width) * t.height);
+    for (size_t i = 0; i < t.linear.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = data[i * size_t(spec.nchannels) + size_t(std::min(c, spec.nchannels - 1))];
+            t.linear[i][c] = encoded ? srgbToLinear(v) : v;
+        }
+    return t;
+}
+
+void writeTexturePng(const Texture& texture, const std::filesystem::path& file) {
+    OIIO::ImageSpec spec(texture.width, texture.height, 3, OIIO::TypeDesc::UINT8);
+    std::vector<uint8_t> data(texture.linear.size() * 3);
+    for (size_t i = 0; i < texture.linear.size(); ++i)
+        for (int c = 0; c < 3; ++c) data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(texture.linear[i][c])));
+    writeImage(file, spec, data.data());
+}
+
 }  // namespace pl

@@ -9,6 +9,7 @@
 
 #include "core/film.h"
 #include "core/sensors.h"
+#include "prepare/surface_appearance.h"
 
 namespace pl {
 
@@ -30,5 +31,10 @@ void writePng(const RadianceImage& image, const std::filesystem::path& file);
 
 // Reads an EXR written by writeExr (for tests and comparisons).
 RadianceImage readExr(const std::filesystem::path& file);
+
+// Texture images: 8/16-bit files are sRGB-encoded, float files (EXR) linear.
+Texture readTexture(const std::filesystem::path& file);
+// Writes an 8-bit sRGB PNG.
+void writeTexturePng(const Texture& texture, const std::filesystem::path& file);
 
 }  // namespace pl

@@ -10,7 +10,10 @@
 #include <sstream>
 #include <unordered_map>
 
+#include <nlohmann/json.hpp>
+
 #include "io/file_names.h"
+#include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 
@@ -18,18 +21,61 @@ namespace pl {
 
 namespace {
 
-TriangleMesh loadObj(const std::filesystem::path& file) {
+// Base colours of an OBJ's .mtl file: Kd and map_Kd per material name.
+struct ObjMaterials {
+    std::map<std::string, uint32_t> index;
+    SurfaceAppearance* appearance;
+};
+
+void loadMtl(const std::filesystem::path& file, ObjMaterials& out) {
+    const std::string name = file.string();
+    std::ifstream in(file);
+    if (!in) throw InputError(name, "cannot open material library");
+    std::string line;
+    int current = -1;
+    while (std::getline(in, line)) {
+        std::istringstream ls(line);
+        std::string tag;
+        if (!(ls >> tag) || tag[0] == '#') continue;
+        auto& mats = out.appearance->materials;
+        if (tag == "newmtl") {
+            std::string m;
+            ls >> m;
+            current = int(mats.size());
+            out.index[m] = uint32_t(current);
+            mats.push_back({});
+        } else if (current >= 0 && tag == "Kd") {
+            RGB kd;
+            if (!(ls >> kd[0] >> kd[1] >> kd[2])) throw InputError(name, "malformed Kd");
+            mats[size_t(current)].baseColorFactor = kd;
+        } else if (current >= 0 && tag == "map_Kd") {
+            std::string rest, tex;
+            std::getline(ls, rest);
+            std::istringstream rs(rest);
+            while (rs >> tex) {}  // options may precede the file name; it comes last
+            out.appearance->textures.push_back(readTexture(file.parent_path() / tex));
+            mats[size_t(current)].texture = int(out.appearance->textures.size()) - 1;
+        }
+    }
+}
+
+MeshAsset loadObj(const std::filesystem::path& file) {
     const std::string name = file.string();
     std::ifstream in(file);
     if (!in) throw InputError(name, "cannot open file");
-    TriangleMesh mesh;
-    std::vector<Vec3f> fileNormals;
-    // OBJ indexes positions and normals separately; one output vertex per pair.
-    std::map<std::pair<int64_t, int64_t>, uint32_t> vertexOf;
+    MeshAsset asset;
+    TriangleMesh& mesh = asset.mesh;
+    SurfaceAppearance& look = asset.appearance;
+    ObjMaterials materials{{}, &look};
     std::vector<Point3f> positions;
+    std::vector<Vec3f> fileNormals;
+    std::vector<std::array<float, 2>> fileUvs;
+    // OBJ indexes positions, UVs and normals separately; one output vertex per triple.
+    std::map<std::array<int64_t, 3>, uint32_t> vertexOf;
     std::string line;
     size_t lineNo = 0;
-    bool anyNormals = false;
+    bool anyNormals = false, anyUvs = false;
+    uint32_t currentMaterial = 0;
     auto bad = [&](const std::string& what) {
         throw InputError(name, "line " + std::to_string(lineNo) + ": " + what);
     };
@@ -47,60 +93,95 @@ TriangleMesh loadObj(const std::filesystem::path& file) {
             Vec3f n;
             if (!(ls >> n.x >> n.y >> n.z)) bad("malformed normal");
             fileNormals.push_back(n);
+        } else if (tag == "vt") {
+            std::array<float, 2> uv;
+            if (!(ls >> uv[0] >> uv[1])) bad("malformed texture coordinate");
+            fileUvs.push_back({uv[0], 1.0f - uv[1]});  // OBJ's v points up; glTF's down
+        } else if (tag == "mtllib") {
+            std::string lib;
+            ls >> lib;
+            loadMtl(file.parent_path() / lib, materials);
+        } else if (tag == "usemtl") {
+            std::string m;
+            ls >> m;
+            auto it = materials.index.find(m);
+            if (it == materials.index.end()) bad("unknown material '" + m + "'");
+            currentMaterial = it->second;
         } else if (tag == "f") {
             std::vector<uint32_t> poly;
             std::string ref;
             while (ls >> ref) {
-                int64_t vi = 0, ni = 0;
-                size_t s1 = ref.find('/');
+                std::array<int64_t, 3> key{0, 0, 0};  // v, vt, vn (1-based, 0 = none)
                 try {
-                    vi = std::stoll(ref.substr(0, s1));
-                    if (s1 != std::string::npos) {
-                        size_t s2 = ref.find('/', s1 + 1);
-                        if (s2 != std::string::npos && s2 + 1 < ref.size()) ni = std::stoll(ref.substr(s2 + 1));
+                    size_t start = 0;
+                    for (int k = 0; k < 3 && start <= ref.size(); ++k) {
+                        size_t slash = ref.find('/', start);
+                        std::string part = ref.substr(start, slash == std::string::npos ? std::string::npos : slash - start);
+                        if (!part.empty()) key[k] = std::stoll(part);
+                        if (slash == std::string::npos) break;
+                        start = slash + 1;
                     }
                 } catch (const std::exception&) {
                     bad("malformed face index '" + ref + "'");
                 }
-                if (vi < 0) vi += int64_t(positions.size()) + 1;
-                if (ni < 0) ni += int64_t(fileNormals.size()) + 1;
-                if (vi < 1 || vi > int64_t(positions.size())) bad("face index out of range");
-                if (ni < 0 || ni > int64_t(fileNormals.size())) bad("normal index out of range");
-                anyNormals = anyNormals || ni > 0;
-                auto key = std::make_pair(vi, ni);
+                const int64_t sizes[3] = {int64_t(positions.size()), int64_t(fileUvs.size()), int64_t(fileNormals.size())};
+                for (int k = 0; k < 3; ++k) {
+                    if (key[k] < 0) key[k] += sizes[k] + 1;
+                    if (key[k] < (k == 0 ? 1 : 0) || key[k] > sizes[k]) bad("face index out of range");
+                }
+                anyUvs = anyUvs || key[1] > 0;
+                anyNormals = anyNormals || key[2] > 0;
                 auto it = vertexOf.find(key);
                 if (it == vertexOf.end()) {
                     it = vertexOf.emplace(key, uint32_t(mesh.positions_mm.size())).first;
-                    mesh.positions_mm.push_back(positions[size_t(vi - 1)]);
-                    mesh.normals.push_back(ni > 0 ? fileNormals[size_t(ni - 1)] : Vec3f(0, 0, 0));
+                    mesh.positions_mm.push_back(positions[size_t(key[0] - 1)]);
+                    look.uvs.push_back(key[1] > 0 ? fileUvs[size_t(key[1] - 1)] : std::array<float, 2>{0, 0});
+                    mesh.normals.push_back(key[2] > 0 ? fileNormals[size_t(key[2] - 1)] : Vec3f(0, 0, 0));
                 }
                 poly.push_back(it->second);
             }
             if (poly.size() < 3) bad("face with fewer than three vertices");
-            for (size_t k = 1; k + 1 < poly.size(); ++k)  // fan triangulation
+            for (size_t k = 1; k + 1 < poly.size(); ++k) {  // fan triangulation
                 mesh.indices.insert(mesh.indices.end(), {poly[0], poly[k], poly[k + 1]});
+                look.triangleMaterial.push_back(currentMaterial);
+            }
         }
     }
     if (!anyNormals) mesh.normals.clear();
-    return mesh;
+    if (!anyUvs) look.uvs.clear();
+    if (look.materials.empty()) look.triangleMaterial.clear();
+    return asset;
 }
 
-// Reads a float accessor of `components` components per element.
+// Reads an accessor as floats, `components` per element; integer types are
+// normalised to [0, 1] (glTF's normalized colours and texture coordinates).
 std::vector<float> readAccessor(const tinygltf::Model& model, int index, int components,
                                 const std::string& name) {
     if (index < 0 || index >= int(model.accessors.size())) throw InputError(name, "bad accessor index");
     const auto& acc = model.accessors[size_t(index)];
-    if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || tinygltf::GetNumComponentsInType(acc.type) != components)
-        throw InputError(name, "unsupported vertex attribute type");
-    const auto& view = model.bufferViews[size_t(acc.bufferView)];
-    const auto& buf = model.buffers[size_t(view.buffer)];
-    size_t stride = acc.ByteStride(view);
+    int have = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
+    if (have < components) throw InputError(name, "vertex attribute has too few components");
+    int size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
+    if (size <= 0) throw InputError(name, "unsupported vertex attribute type");
+    const auto& view = model.bufferViews.at(size_t(acc.bufferView));
+    const auto& buf = model.buffers.at(size_t(view.buffer));
+    size_t stride = size_t(acc.ByteStride(view));
     size_t begin = view.byteOffset + acc.byteOffset;
-    if (stride == 0 || begin + stride * (acc.count ? acc.count - 1 : 0) + components * 4 > buf.data.size())
+    if (stride == 0 || begin + stride * (acc.count ? acc.count - 1 : 0) + size_t(have * size) > buf.data.size())
         throw InputError(name, "accessor runs past its buffer");
     std::vector<float> out(acc.count * size_t(components));
     for (size_t i = 0; i < acc.count; ++i)
-        std::memcpy(&out[i * components], &buf.data[begin + i * stride], size_t(components) * 4);
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = &buf.data[begin + i * stride + size_t(c * size)];
+            float v;
+            switch (acc.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, p, 4); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p / 255.0f; break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); v = u / 65535.0f; break; }
+                default: throw InputError(name, "unsupported vertex attribute type");
+            }
+            out[i * components + size_t(c)] = v;
+        }
     return out;
 }
 
@@ -153,8 +234,15 @@ Mat4 nodeMatrix(const tinygltf::Node& n) {
     return multiply(t, multiply(r, s));
 }
 
+struct GltfState {
+    MeshAsset asset;
+    bool allNormals = true, anyUvs = false, anyColors = false;
+};
+
 void appendGltfNode(const tinygltf::Model& model, int nodeIndex, const Mat4& parent,
-                    TriangleMesh& mesh, bool& allNormals, const std::string& name, int depth) {
+                    GltfState& st, const std::string& name, int depth) {
+    TriangleMesh& mesh = st.asset.mesh;
+    SurfaceAppearance& look = st.asset.appearance;
     if (depth > 64) throw InputError(name, "node hierarchy too deep (cycle?)");
     const auto& node = model.nodes.at(size_t(nodeIndex));
     Mat4 m = multiply(parent, nodeMatrix(node));
@@ -168,9 +256,25 @@ void appendGltfNode(const tinygltf::Model& model, int nodeIndex, const Mat4& par
             std::vector<float> nrm;
             auto nit = prim.attributes.find("NORMAL");
             if (nit != prim.attributes.end()) nrm = readAccessor(model, nit->second, 3, name);
-            allNormals = allNormals && !nrm.empty();
+            st.allNormals = st.allNormals && !nrm.empty();
+            std::vector<float> uv, col;
+            auto uit = prim.attributes.find("TEXCOORD_0");
+            if (uit != prim.attributes.end()) uv = readAccessor(model, uit->second, 2, name);
+            auto cit = prim.attributes.find("COLOR_0");
+            if (cit != prim.attributes.end()) col = readAccessor(model, cit->second, 3, name);
+            st.anyUvs = st.anyUvs || !uv.empty();
+            st.anyColors = st.anyColors || !col.empty();
             uint32_t base = uint32_t(mesh.positions_mm.size());
             size_t count = p.size() / 3;
+            if ((!uv.empty() && uv.size() / 2 != count) || (!col.empty() && col.size() / 3 != count) ||
+                (!nrm.empty() && nrm.size() / 3 != count))
+                throw InputError(name, "vertex attributes of different lengths");
+            for (size_t i = 0; i < count; ++i) {
+                look.uvs.push_back(uv.empty() ? std::array<float, 2>{0, 0} : std::array<float, 2>{uv[2 * i], uv[2 * i + 1]});
+                look.vertexColors.push_back(col.empty() ? RGB{1, 1, 1} : RGB{col[3 * i], col[3 * i + 1], col[3 * i + 2]});
+            }
+            // glTF materials map one to one onto ours (loaded in loadGltf).
+            uint32_t material = prim.material >= 0 ? uint32_t(prim.material) : uint32_t(model.materials.size());
             for (size_t i = 0; i < count; ++i) {
                 double x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
                 mesh.positions_mm.push_back({float(m[0] * x + m[4] * y + m[8] * z + m[12]),
@@ -204,12 +308,33 @@ void appendGltfNode(const tinygltf::Model& model, int nodeIndex, const Mat4& par
                 if (i >= count) throw InputError(name, "vertex index out of range");
                 mesh.indices.push_back(base + i);
             }
+            look.triangleMaterial.insert(look.triangleMaterial.end(), idx.size() / 3, material);
         }
     }
-    for (int child : node.children) appendGltfNode(model, child, m, mesh, allNormals, name, depth + 1);
+    for (int child : node.children) appendGltfNode(model, child, m, st, name, depth + 1);
 }
 
-TriangleMesh loadGltf(const std::filesystem::path& file) {
+// An 8- or 16-bit sRGB image decoded by tinygltf, as linear RGB.
+Texture textureFromGltfImage(const tinygltf::Image& im, const std::string& name) {
+    if (im.width <= 0 || im.height <= 0 || im.component < 1 || (im.bits != 8 && im.bits != 16) ||
+        im.image.size() < size_t(im.width) * im.height * im.component * (im.bits / 8))
+        throw InputError(name, "texture image '" + im.uri + "' could not be decoded");
+    Texture t;
+    t.width = im.width;
+    t.height = im.height;
+    t.linear.resize(size_t(im.width) * im.height);
+    for (size_t i = 0; i < t.linear.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            int comp = std::min(c, im.component - 1);  // grey images repeat their channel
+            size_t at = i * size_t(im.component) + size_t(comp);
+            float v = im.bits == 8 ? im.image[at] / 255.0f
+                                   : (im.image[2 * at] | (im.image[2 * at + 1] << 8)) / 65535.0f;
+            t.linear[i][c] = srgbToLinear(v);
+        }
+    return t;
+}
+
+MeshAsset loadGltf(const std::filesystem::path& file) {
     const std::string name = file.string();
     if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");
     tinygltf::TinyGLTF loader;
@@ -223,23 +348,49 @@ TriangleMesh loadGltf(const std::filesystem::path& file) {
         while (!msg.empty() && msg.back() == ' ') msg.pop_back();
         throw InputError(name, "malformed glTF: " + msg);
     }
-    TriangleMesh mesh;
-    bool allNormals = true;
+    GltfState st;
     Mat4 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
     try {
         if (!model.scenes.empty()) {
             for (int n : model.scenes.at(size_t(sceneIndex)).nodes)
-                appendGltfNode(model, n, identity, mesh, allNormals, name, 0);
+                appendGltfNode(model, n, identity, st, name, 0);
         } else {
             for (size_t n = 0; n < model.nodes.size(); ++n)
-                appendGltfNode(model, int(n), identity, mesh, allNormals, name, 0);
+                appendGltfNode(model, int(n), identity, st, name, 0);
         }
+        // Base colours: factor (linear) and texture (sRGB) per material, plus
+        // one default white material for primitives without one.
+        SurfaceAppearance& look = st.asset.appearance;
+        std::map<int, int> textureOfImage;
+        for (const auto& m : model.materials) {
+            SurfaceMaterial sm;
+            const auto& pbr = m.pbrMetallicRoughness;
+            for (int c = 0; c < 3 && c < int(pbr.baseColorFactor.size()); ++c) sm.baseColorFactor[c] = float(pbr.baseColorFactor[size_t(c)]);
+            if (pbr.baseColorTexture.index >= 0) {
+                int image = model.textures.at(size_t(pbr.baseColorTexture.index)).source;
+                if (!textureOfImage.count(image)) {
+                    look.textures.push_back(textureFromGltfImage(model.images.at(size_t(image)), name));
+                    textureOfImage[image] = int(look.textures.size()) - 1;
+                }
+                sm.texture = textureOfImage[image];
+            }
+            look.materials.push_back(sm);
+        }
+        look.materials.push_back({});
     } catch (const std::out_of_range&) {
         throw InputError(name, "malformed glTF: index out of range");
     }
-    if (!allNormals) mesh.normals.clear();
-    return mesh;
+    TriangleMesh& mesh = st.asset.mesh;
+    SurfaceAppearance& look = st.asset.appearance;
+    if (!st.allNormals) mesh.normals.clear();
+    if (!st.anyUvs) look.uvs.clear();
+    if (!st.anyColors) look.vertexColors.clear();
+    if (model.materials.empty()) {
+        look.materials.clear();
+        look.triangleMaterial.clear();
+    }
+    return std::move(st.asset);
 }
 
 }  // namespace
@@ -287,14 +438,14 @@ void validateClosedMesh(TriangleMesh& mesh, const std::string& file) {
             std::swap(mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]);
 }
 
-TriangleMesh loadMesh(const std::filesystem::path& file) {
+MeshAsset loadMeshAsset(const std::filesystem::path& file) {
     std::string ext = lowerExtension(file);
-    TriangleMesh mesh;
-    if (ext == ".obj") mesh = loadObj(file);
-    else if (ext == ".gltf" || ext == ".glb") mesh = loadGltf(file);
+    MeshAsset asset;
+    if (ext == ".obj") asset = loadObj(file);
+    else if (ext == ".gltf" || ext == ".glb") asset = loadGltf(file);
     else throw InputError(file.string(), "unknown mesh format (expected .obj, .gltf or .glb)");
-    validateClosedMesh(mesh, file.string());
-    return mesh;
+    validateClosedMesh(asset.mesh, file.string());
+    return asset;
 }
 
 void writeObj(const TriangleMesh& mesh, const std::filesystem::path& file) {
@@ -308,6 +459,86 @@ void writeObj(const TriangleMesh& mesh, const std::filesystem::path& file) {
             os << "f " << mesh.indices[3 * t] + 1 << ' ' << mesh.indices[3 * t + 1] + 1 << ' '
                << mesh.indices[3 * t + 2] + 1 << '\n';
         if (!os) throw std::runtime_error(file.string() + ": write failed");
+    }
+    out.commit();
+}
+
+}  // namespace pl
+
+namespace pl {
+
+namespace {
+std::string base64(const std::vector<unsigned char>& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(bytes[i]) << 16;
+        if (i + 1 < bytes.size()) v |= uint32_t(bytes[i + 1]) << 8;
+        if (i + 2 < bytes.size()) v |= bytes[i + 2];
+        out += table[(v >> 18) & 63];
+        out += table[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? table[v & 63] : '=';
+    }
+    return out;
+}
+
+template <class T>
+void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
+    const auto* p = reinterpret_cast<const unsigned char*>(data);
+    buf.insert(buf.end(), p, p + count * sizeof(T));
+    while (buf.size() % 4) buf.push_back(0);
+}
+}  // namespace
+
+void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const std::string& textureUri,
+               const std::filesystem::path& file) {
+    using nlohmann::json;
+    std::vector<unsigned char> buf;
+    json views = json::array(), accessors = json::array(), attributes = json::object();
+    auto addView = [&](const void* data, size_t bytes, size_t count, int componentType, const char* type,
+                       int target) {
+        size_t offset = buf.size();
+        appendBytes(buf, static_cast<const unsigned char*>(data), bytes);
+        views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+        accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", componentType}, {"count", count}, {"type", type}});
+        return int(accessors.size()) - 1;
+    };
+    size_t n = mesh.positions_mm.size();
+    Bounds3f b;
+    for (const Point3f& p : mesh.positions_mm) b.expand(p);
+    attributes["POSITION"] = addView(mesh.positions_mm.data(), n * 12, n, 5126, "VEC3", 34962);
+    accessors.back()["min"] = {b.lo.x, b.lo.y, b.lo.z};
+    accessors.back()["max"] = {b.hi.x, b.hi.y, b.hi.z};
+    if (!look.uvs.empty()) attributes["TEXCOORD_0"] = addView(look.uvs.data(), n * 8, n, 5126, "VEC2", 34962);
+    if (!look.vertexColors.empty()) attributes["COLOR_0"] = addView(look.vertexColors.data(), n * 12, n, 5126, "VEC3", 34962);
+    int indices = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
+
+    json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
+    json gltf = {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
+                 {"scene", 0},
+                 {"scenes", {{{"nodes", {0}}}}},
+                 {"nodes", {{{"mesh", 0}}}},
+                 {"bufferViews", views},
+                 {"accessors", accessors},
+                 {"buffers", {{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}}}};
+    if (!textureUri.empty() || !look.materials.empty()) {
+        RGB f = look.materials.empty() ? RGB{1, 1, 1} : look.materials[0].baseColorFactor;
+        json pbr = {{"baseColorFactor", {f[0], f[1], f[2], 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
+        if (!textureUri.empty()) {
+            pbr["baseColorTexture"] = {{"index", 0}};
+            gltf["images"] = {{{"uri", textureUri}}};
+            gltf["textures"] = {{{"source", 0}}};
+        }
+        gltf["materials"] = {{{"pbrMetallicRoughness", pbr}}};
+        primitive["material"] = 0;
+    }
+    gltf["meshes"] = {{{"primitives", {primitive}}}};
+    OutputFile out(file);
+    {
+        std::ofstream os(out.tempPath());
+        os << gltf.dump(1) << '\n';
+        if (!os) throw InputError(file.string(), "write failed");
     }
     out.commit();
 }

@@ -1,15 +1,23 @@
-// Triangle meshes from glTF 2.0 (.gltf/.glb, through tinygltf) and OBJ.
-// The object must be one closed, consistently oriented surface; it is
-// re-oriented so that its normals point outwards.
+// Triangle meshes from glTF 2.0 (.gltf/.glb, through tinygltf) and OBJ
+// (with .mtl base colours and map_Kd textures). The object must be one
+// closed, consistently oriented surface; it is re-oriented so that its
+// normals point outwards.
 #pragma once
 
 #include <filesystem>
 
 #include "core/geometry.h"
+#include "prepare/surface_appearance.h"
 
 namespace pl {
 
-TriangleMesh loadMesh(const std::filesystem::path& file);
+struct MeshAsset {
+    TriangleMesh mesh;
+    SurfaceAppearance appearance;  // colours, if the file has any
+};
+
+MeshAsset loadMeshAsset(const std::filesystem::path& file);
+inline TriangleMesh loadMesh(const std::filesystem::path& file) { return loadMeshAsset(file).mesh; }
 
 // Throws InputError(file, ...) unless every edge is shared by exactly two
 // triangles with opposite orientation. Flips the winding if the enclosed
@@ -18,5 +26,11 @@ void validateClosedMesh(TriangleMesh& mesh, const std::string& file);
 
 // Writes a Wavefront OBJ (positions and triangles).
 void writeObj(const TriangleMesh& mesh, const std::filesystem::path& file);
+
+// Writes a glTF 2.0 file (.gltf with the buffer embedded) with optional UVs,
+// vertex colours (linear) and a base-colour texture referenced by a relative
+// path (an sRGB PNG beside the file).
+void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& appearance,
+               const std::string& textureUri, const std::filesystem::path& file);
 
 }  // namespace pl
