@@ -11,6 +11,10 @@ const char* kUsage =
     "commands:\n"
     "  render SCENE.json [--spp N] [--seed S] [--threads N] [--channel r|g|b|rgb] [-o OUT]\n"
     "         renders a scene; writes OUT.exr, OUT.png and, for the surface-voxel sensor, OUT.vdb\n"
+    "  prepare MODEL.gltf|.glb|.obj -o OUT.vdb [--voxel X,Y,Z] [--extrude-mm D] [--margin-mm M]\n"
+    "          [--materials FILE] [--halftone error-diffusion|nearest] [--fill conservative|center]\n"
+    "          [--color R,G,B] [--keep-colors] [--scene-out PREFIX]\n"
+    "         voxelises a textured mesh into labels, sdf and normal grids\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }
@@ -25,6 +29,7 @@ int main(int argc, char** argv) {
     try {
         if (command == "render") return pl::renderCommand(args);
         if (command == "info") return pl::infoCommand(args);
+        if (command == "prepare") return pl::prepareCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::UsageError& e) {
         std::fprintf(stderr, "printlight: %s\n%s", e.what(), kUsage);

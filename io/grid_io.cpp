@@ -12,6 +12,7 @@
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"
+#include "media/voxel_fields_vdb.h"
 
 namespace pl {
 
@@ -258,7 +259,8 @@ LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> 
     throw InputError(name, "unknown label grid format (expected .vdb, .bin, .gz or .vol)");
 }
 
-void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file) {
+namespace {
+LabelVdbGrid::Ptr labelsVdbGrid(const LabelGrid& grid) {
     initializeVdb();
     auto g = LabelVdbGrid::create(grid.tree().vdb);
     g->setName("labels");
@@ -268,7 +270,28 @@ void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file)
     g->insertMeta("printlight_index_min", openvdb::Vec3IMetadata(openvdb::Vec3i(f.indexMin.x, f.indexMin.y, f.indexMin.z)));
     g->insertMeta("printlight_resolution",
                   openvdb::Vec3IMetadata(openvdb::Vec3i(f.resolution.x, f.resolution.y, f.resolution.z)));
-    writeVdbGrids({g}, file);
+    return g;
+}
+}  // namespace
+
+void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file) {
+    writeVdbGrids({labelsVdbGrid(grid)}, file);
+}
+
+void writePreparedVdb(const LabelGrid& grid, const VoxelFields& fields, const std::filesystem::path& file) {
+    auto labels = labelsVdbGrid(grid);
+    const VoxelFields::Grids& g = fields.grids();
+    openvdb::GridPtrVec grids{labels};
+    auto add = [&](openvdb::GridBase::Ptr field, const char* name) {
+        field->setName(name);
+        field->setTransform(labels->transform().copy());
+        field->insertMeta("units", openvdb::StringMetadata(std::string(name) == "sdf" ? "mm" : ""));
+        grids.push_back(field);
+    };
+    add(g.sdf, "sdf");
+    add(g.normal, "normal");
+    if (g.colors) add(g.colors, "colors");
+    writeVdbGrids(grids, file);
 }
 
 void writeLabelGridBin(const LabelGrid& grid, const std::filesystem::path& file) {

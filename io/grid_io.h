@@ -14,6 +14,7 @@
 
 #include "core/film.h"
 #include "media/label_grid.h"
+#include "media/voxel_fields.h"
 
 namespace pl {
 
@@ -26,6 +27,10 @@ constexpr uint64_t kMaxGridVoxels = uint64_t(1) << 36;
 LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> voidLabel);
 
 void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file);
+// Labels plus the prepared fields: "sdf" (float, mm, negative inside),
+// "normal" (Vec3, unit outward gradient) and, if present, "colors" (Vec3,
+// linear RGB targets), all in the labels' transform.
+void writePreparedVdb(const LabelGrid& grid, const VoxelFields& fields, const std::filesystem::path& file);
 void writeLabelGridBin(const LabelGrid& grid, const std::filesystem::path& file);  // .bin or .gz
 void writeLabelGridVol(const LabelGrid& grid, const std::filesystem::path& file);
 

@@ -128,4 +128,36 @@ std::vector<SurfaceVoxel> LabelGrid::surfaceVoxels() const {
     return out;
 }
 
+struct LabelGridBuilder::Impl {
+    GridFrame frame;
+    Label voidLabel;
+    std::shared_ptr<LabelGrid::Tree> tree;
+    openvdb::tree::ValueAccessor<LabelTreeType> accessor;
+    Impl(const GridFrame& f, Label v, std::shared_ptr<LabelGrid::Tree> t)
+        : frame(f), voidLabel(v), tree(std::move(t)), accessor(*tree->vdb) {}
+};
+
+LabelGridBuilder::LabelGridBuilder(const GridFrame& frame, Label voidLabel) {
+    initializeVdb();
+    auto tree = std::make_shared<LabelGrid::Tree>();
+    tree->vdb = std::make_shared<LabelTreeType>(voidLabel);
+    impl_ = std::make_unique<Impl>(frame, voidLabel, std::move(tree));
+}
+
+LabelGridBuilder::~LabelGridBuilder() = default;
+
+void LabelGridBuilder::set(const Vec3i& v, Label label) {
+    if (label != impl_->voidLabel) impl_->accessor.setValueOn(toCoord(v), label);
+}
+
+void LabelGridBuilder::compact() {
+    impl_->accessor.clear();
+    impl_->tree->vdb->prune();
+}
+
+LabelGrid LabelGridBuilder::finish() {
+    compact();
+    return LabelGrid(impl_->frame, impl_->voidLabel, impl_->tree);
+}
+
 }  // namespace pl

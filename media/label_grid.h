@@ -58,4 +58,20 @@ private:
     std::shared_ptr<Tree> tree_;
 };
 
+// Builds a label grid voxel by voxel (single thread), collapsing uniform
+// blocks into tiles as it goes.
+class LabelGridBuilder {
+public:
+    LabelGridBuilder(const GridFrame& frame, Label voidLabel);
+    ~LabelGridBuilder();
+    void set(const Vec3i& voxel, Label label);
+    // Collapses finished regions; call now and then to bound memory.
+    void compact();
+    LabelGrid finish();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 }  // namespace pl
