@@ -1,55 +1,135 @@
-// make-test-data OUTDIR: writes the bundled 10 mm cube label grids
-// (until `printlight prepare` exists). Deterministic: same files every run.
-//   cube10_white.vdb    every voxel touching the cube is white resin
-//   cube10_pattern.vdb  a high-frequency 0.5 mm checker of C/M/Y/K/W in the
-//                       outer 1 mm (extruded inward from the nearest face),
-//                       white inside
+// make-test-data OUTDIR: writes the procedural test-set models (in the kind
+// of Brecka 2021, table 3.1) as glTF with their textures. Everything is made
+// here, deterministically; no third-party data.
+//   cube10.gltf, cube20.gltf                 10 / 20 mm cubes, white
+//   cube10_greek.gltf, cube20_greek.gltf     the same with a high-frequency meander texture (greek.png)
+//   animal.gltf, animal_spotted.gltf         a thin, curvy seahorse-like tube ~5 x 12 x 13 mm, white / spotted (spots.png)
+//   bone.gltf                                a ~42 mm bone-like shape with ~60k triangles (memory and scale)
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
-#include "io/grid_io.h"
+#include "core/rng.h"
+#include "io/image_io.h"
+#include "io/mesh_io.h"
 
 namespace {
 
 using namespace pl;
 
-constexpr Label kCyan = 0, kMagenta = 1, kYellow = 2, kBlack = 3, kWhite = 4, kAir = 5;
-constexpr float kCube_mm = 10.0f;
-constexpr float kShell_mm = 1.0f;
-constexpr float kChecker_mm = 0.5f;
-const Vec3f kPrinterVoxel_mm{0.0423f, 0.0847f, 0.027f};  // 600 x 300 dpi, 27 um layers
-
-GridFrame cubeFrame() {
-    GridFrame f;
-    f.voxelSize_mm = kPrinterVoxel_mm;
-    for (int a = 0; a < 3; ++a) {
-        // Two voxels of void padding on every side.
-        f.resolution[a] = int(std::ceil(kCube_mm / kPrinterVoxel_mm[a])) + 4;
-        f.cornerMin_mm[a] = -2.0f * kPrinterVoxel_mm[a];
+// Cube [0, size]^3 with each face mapped onto the whole texture.
+void cube(float size, TriangleMesh& mesh, SurfaceAppearance& look) {
+    // Per face: origin corner and the two in-face axes (u, v), outward by u x v.
+    struct Face { Vec3f o, u, v; };
+    const Face faces[6] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 0}, {0, -1, 0}, {0, 0, 1}},
+                           {{1, 1, 0}, {-1, 0, 0}, {0, 0, 1}}, {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}},
+                           {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 0}, {1, 0, 0}, {0, -1, 0}}};
+    for (const Face& f : faces) {
+        uint32_t base = uint32_t(mesh.positions_mm.size());
+        for (int k = 0; k < 4; ++k) {
+            float a = float(k & 1), b = float(k >> 1);
+            mesh.positions_mm.push_back((f.o + f.u * a + f.v * b) * size);
+            look.uvs.push_back({a, 1.0f - b});
+        }
+        mesh.indices.insert(mesh.indices.end(), {base, base + 1, base + 3, base, base + 3, base + 2});
     }
-    return f;
 }
 
-// Pattern label of a shell voxel, from the face nearest to its centre.
-Label patternLabel(const Point3f& c) {
-    float best = 1e30f;
-    int axis = 0;
-    bool high = false;
-    for (int a = 0; a < 3; ++a) {
-        float dLo = c[a], dHi = kCube_mm - c[a];
-        if (dLo < best) { best = dLo; axis = a; high = false; }
-        if (dHi < best) { best = dHi; axis = a; high = true; }
+// A closed tube swept along a curve with rotation-minimising frames, a
+// radius profile, poles at both ends; u runs along the curve, v around it.
+void sweep(int rings, int segments, const std::function<Point3f(float)>& curve,
+           const std::function<float(float, float)>& radius, TriangleMesh& mesh, SurfaceAppearance& look) {
+    std::vector<Point3f> c(static_cast<size_t>(rings));
+    for (int i = 0; i < rings; ++i) c[size_t(i)] = curve(float(i) / (rings - 1));
+    Vec3f t0 = normalize(c[1] - c[0]);
+    Vec3f n = normalize(cross(t0, std::abs(t0.x) < 0.9f ? Vec3f(1, 0, 0) : Vec3f(0, 1, 0)));
+    std::vector<Vec3f> tangent(static_cast<size_t>(rings)), normal(static_cast<size_t>(rings));
+    for (int i = 0; i < rings; ++i) {
+        Vec3f t = normalize(c[size_t(std::min(i + 1, rings - 1))] - c[size_t(std::max(i - 1, 0))]);
+        n = normalize(n - t * dot(n, t));  // transport the frame along the curve
+        tangent[size_t(i)] = t;
+        normal[size_t(i)] = n;
     }
-    if (best > kShell_mm) return kWhite;
-    int u = int(std::floor(c[(axis + 1) % 3] / kChecker_mm));
-    int v = int(std::floor(c[(axis + 2) % 3] / kChecker_mm));
-    static const Label palette[5] = {kCyan, kMagenta, kYellow, kBlack, kWhite};
-    uint32_t h = uint32_t(u * 73856093) ^ uint32_t(v * 19349663) ^ uint32_t((2 * axis + high) * 83492791);
-    h ^= h >> 13;
-    h *= 0x5bd1e995u;
-    h ^= h >> 15;
-    return palette[h % 5];
+    auto pole = [&](int i, float sign) {
+        float s = float(i) / (rings - 1);
+        mesh.positions_mm.push_back(c[size_t(i)] + tangent[size_t(i)] * (sign * radius(s, 0.0f)));
+        look.uvs.push_back({s, 0.5f});
+        return uint32_t(mesh.positions_mm.size() - 1);
+    };
+    uint32_t start = pole(0, -1.0f);
+    uint32_t first = uint32_t(mesh.positions_mm.size());
+    for (int i = 0; i < rings; ++i) {
+        float s = float(i) / (rings - 1);
+        Vec3f b = cross(tangent[size_t(i)], normal[size_t(i)]);
+        for (int j = 0; j <= segments; ++j) {  // j = segments repeats j = 0 for the texture seam
+            float phi = 2 * kPi * float(j % segments) / segments;
+            float r = radius(s, phi);
+            mesh.positions_mm.push_back(c[size_t(i)] + (normal[size_t(i)] * std::cos(phi) + b * std::sin(phi)) * r);
+            look.uvs.push_back({s, float(j) / segments});
+        }
+    }
+    uint32_t end = pole(rings - 1, 1.0f);
+    auto at = [&](int i, int j) { return first + uint32_t(i * (segments + 1) + j); };
+    for (int j = 0; j < segments; ++j) {
+        mesh.indices.insert(mesh.indices.end(), {start, at(0, j + 1), at(0, j)});
+        mesh.indices.insert(mesh.indices.end(), {end, at(rings - 1, j), at(rings - 1, j + 1)});
+        for (int i = 0; i + 1 < rings; ++i)
+            mesh.indices.insert(mesh.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1),
+                                                     at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+}
+
+Texture blankTexture(int w, int h) {
+    Texture t;
+    t.width = w;
+    t.height = h;
+    t.linear.assign(size_t(w) * h, RGB{1, 1, 1});
+    return t;
+}
+
+// Square spirals ("greek key" meanders), 3 px lines, colour per 32 px tile.
+Texture greekTexture() {
+    Texture t = blankTexture(512, 512);
+    const RGB palette[7] = {{0, 0.6f, 0.9f}, {0.85f, 0.05f, 0.45f}, {0.95f, 0.85f, 0.05f}, {0.02f, 0.02f, 0.02f},
+                            {0.8f, 0.1f, 0.05f}, {0.05f, 0.5f, 0.1f}, {0.1f, 0.1f, 0.6f}};
+    for (int ty = 0; ty < 16; ++ty)
+        for (int tx = 0; tx < 16; ++tx) {
+            const RGB& col = palette[(tx * 3 + ty * 5) % 7];
+            int x = tx * 32 + 15, y = ty * 32 + 15;
+            const int dx[4] = {1, 0, -1, 0}, dy[4] = {0, 1, 0, -1};
+            for (int seg = 0, len = 4; seg < 10; ++seg, len += (seg % 2 == 0) ? 4 : 0) {
+                for (int s = 0; s < len; ++s) {
+                    for (int a = -1; a <= 1; ++a)
+                        for (int b = -1; b <= 1; ++b) {
+                            int px = x + a, py = y + b;
+                            if (px >= tx * 32 + 1 && px < tx * 32 + 31 && py >= ty * 32 + 1 && py < ty * 32 + 31)
+                                t.linear[size_t(py) * 512 + px] = col;
+                        }
+                    x += dx[seg % 4];
+                    y += dy[seg % 4];
+                }
+            }
+        }
+    return t;
+}
+
+// Dark and orange spots on white.
+Texture spotsTexture() {
+    Texture t = blankTexture(512, 256);
+    Rng rng(2021, 7);
+    const RGB palette[3] = {{0.03f, 0.02f, 0.02f}, {0.7f, 0.25f, 0.02f}, {0.25f, 0.12f, 0.05f}};
+    for (int k = 0; k < 140; ++k) {
+        float cx = rng.uniform() * 512, cy = rng.uniform() * 256, r = 5 + 14 * rng.uniform();
+        const RGB& col = palette[rng.next32() % 3];
+        for (int y = int(cy - r); y <= int(cy + r); ++y)
+            for (int x = int(cx - 2 * r); x <= int(cx + 2 * r); ++x) {
+                float ex = (x - cx) / 2.0f, ey = y - cy;  // u spans 2x the v texels
+                if (ex * ex + ey * ey > r * r) continue;
+                t.linear[size_t((y % 256 + 256) % 256) * 512 + size_t((x % 512 + 512) % 512)] = col;
+            }
+    }
+    return t;
 }
 
 }  // namespace
@@ -60,29 +140,47 @@ int main(int argc, char** argv) {
         return 2;
     }
     std::filesystem::path dir = argv[1];
-    GridFrame f = cubeFrame();
-    std::vector<Label> white(f.voxelCount()), pattern(f.voxelCount());
-    size_t i = 0;
-    for (int z = 0; z < f.resolution.z; ++z)
-        for (int y = 0; y < f.resolution.y; ++y)
-            for (int x = 0; x < f.resolution.x; ++x, ++i) {
-                Vec3i v{x, y, z};
-                // A voxel belongs to the object if it overlaps the cube.
-                bool inside = true;
-                for (int a = 0; a < 3; ++a) {
-                    float lo = f.cornerMin_mm[a] + v[a] * f.voxelSize_mm[a];
-                    inside = inside && lo + f.voxelSize_mm[a] > 0.0f && lo < kCube_mm;
-                }
-                white[i] = inside ? kWhite : kAir;
-                pattern[i] = inside ? patternLabel(f.voxelCenter_mm(v)) : kAir;
-            }
     try {
-        writeLabelGridVdb(LabelGrid::fromDense(f, white, kAir), dir / "cube10_white.vdb");
-        writeLabelGridVdb(LabelGrid::fromDense(f, pattern, kAir), dir / "cube10_pattern.vdb");
+        std::filesystem::create_directories(dir);
+        writeTexturePng(greekTexture(), dir / "greek.png");
+        writeTexturePng(spotsTexture(), dir / "spots.png");
+        SurfaceAppearance textured;
+        textured.materials.push_back({{1, 1, 1}, 0});
+
+        for (float size : {10.0f, 20.0f}) {
+            TriangleMesh mesh;
+            SurfaceAppearance look = textured;
+            cube(size, mesh, look);
+            std::string name = "cube" + std::to_string(int(size));
+            writeGltf(mesh, look, "greek.png", dir / (name + "_greek.gltf"));
+            look.materials.clear();
+            writeGltf(mesh, look, "", dir / (name + ".gltf"));
+        }
+
+        TriangleMesh animal;
+        SurfaceAppearance animalLook = textured;
+        sweep(240, 24,
+              [](float s) { return Point3f(0.8f * std::sin(3 * kPi * s), 3.5f * std::sin(1.6f * kPi * s), 12.0f * s); },
+              [](float s, float) { return 0.3f + 1.9f * std::pow(std::max(0.0f, std::sin(kPi * s)), 0.8f) * (1.0f - 0.6f * s); },
+              animal, animalLook);
+        writeGltf(animal, animalLook, "spots.png", dir / "animal_spotted.gltf");
+        animalLook.materials.clear();
+        writeGltf(animal, animalLook, "", dir / "animal.gltf");
+
+        TriangleMesh bone;
+        SurfaceAppearance boneLook;
+        sweep(320, 96, [](float s) { return Point3f(40.0f * s, 0.0f, 0.0f); },
+              [](float s, float phi) {
+                  float knobs = 5.0f * (std::exp(-std::pow(s / 0.09f, 2.0f)) + std::exp(-std::pow((1 - s) / 0.09f, 2.0f)));
+                  float ridges = 1.0f + 0.06f * std::sin(3 * phi) * std::sin(11 * kPi * s);
+                  return (2.8f + knobs) * ridges;
+              },
+              bone, boneLook);
+        writeGltf(bone, boneLook, "", dir / "bone.gltf");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "make-test-data: error: %s\n", e.what());
         return 1;
     }
-    std::printf("make-test-data: wrote cube10_white.vdb and cube10_pattern.vdb to %s\n", dir.string().c_str());
+    std::printf("make-test-data: wrote the test-set models to %s\n", dir.string().c_str());
     return 0;
 }

@@ -217,7 +217,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                                   {"output", {{"path", "out/" + stem + "_surface"}}}};
         nlohmann::json preview = surface;
         // Looking at the centre from a corner above, far enough to frame it.
-        float dist = 2.2f * size;
+        float dist = 1.4f * size;
         preview["sensor"] = {{"type", "perspective"},
                              {"position", {c.x + 0.55f * dist, c.y - 0.65f * dist, c.z + 0.5f * dist}},
                              {"look_at", {c.x, c.y, c.z}},

@@ -48,6 +48,49 @@ Point3f closestPointOnTriangle(const Point3f& p, const Point3f& a, const Point3f
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// Triangle / axis-aligned box overlap by the separating axis theorem
+// (Akenine-Moeller 2001): box axes, triangle normal, and the nine edge cross
+// products.
+bool triangleOverlapsBox(const Point3f& center, const Vec3f& half, Point3f a, Point3f b, Point3f c) {
+    a = a - center;
+    b = b - center;
+    c = c - center;
+    auto separated = [&](const Vec3f& axis) {
+        float pa = dot(a, axis), pb = dot(b, axis), pc = dot(c, axis);
+        float r = half.x * std::abs(axis.x) + half.y * std::abs(axis.y) + half.z * std::abs(axis.z);
+        return std::min({pa, pb, pc}) > r || std::max({pa, pb, pc}) < -r;
+    };
+    const Vec3f axes[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (const Vec3f& e : axes)
+        if (separated(e)) return false;
+    Vec3f edges[3] = {b - a, c - b, a - c};
+    if (separated(cross(edges[0], edges[1]))) return false;
+    for (const Vec3f& e : edges)
+        for (const Vec3f& u : axes)
+            if (separated(cross(e, u))) return false;
+    return true;
+}
+
+struct BoxQueryState {
+    const TriangleMesh* mesh;
+    Point3f center;
+    Vec3f half;
+    bool overlaps = false;
+};
+
+bool boxOverlapCallback(RTCPointQueryFunctionArguments* args) {
+    auto* state = static_cast<BoxQueryState*>(args->userPtr);
+    const TriangleMesh& m = *state->mesh;
+    const uint32_t* i = &m.indices[3 * size_t(args->primID)];
+    if (!state->overlaps &&
+        triangleOverlapsBox(state->center, state->half, m.positions_mm[i[0]], m.positions_mm[i[1]], m.positions_mm[i[2]])) {
+        state->overlaps = true;
+        args->query->radius = 0.0f;  // done: stop the search
+        return true;
+    }
+    return false;
+}
+
 struct PointQueryState {
     const TriangleMesh* mesh;
     ClosestSurfacePoint best;
@@ -110,13 +153,13 @@ Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(s
 
 Geometry::~Geometry() = default;
 
-std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax) const {
+std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax, float tMin) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRayHit rh;
     rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
     rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = 0.0f;
+    rh.ray.tnear = tMin;
     rh.ray.tfar = tMax;
     rh.ray.mask = 0xffffffffu;
     rh.ray.flags = 0;
@@ -158,6 +201,19 @@ std::optional<ClosestSurfacePoint> Geometry::closestPoint(const Point3f& p,
     rtcPointQuery(impl_->scene, &query, &context, closestPointCallback, &state);
     if (!state.found) return std::nullopt;
     return state.best;
+}
+
+bool Geometry::surfaceCrossesBox(const Point3f& lo, const Point3f& hi) const {
+    BoxQueryState state{&mesh_, (lo + hi) * 0.5f, (hi - lo) * 0.5f, false};
+    // Every triangle touching the box is within its half diagonal of the centre.
+    RTCPointQuery query;
+    query.x = state.center.x; query.y = state.center.y; query.z = state.center.z;
+    query.radius = length(state.half) * 1.0001f;
+    query.time = 0.0f;
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(impl_->scene, &query, &context, boxOverlapCallback, &state);
+    return state.overlaps;
 }
 
 }  // namespace pl

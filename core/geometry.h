@@ -47,10 +47,12 @@ public:
     Geometry(const Geometry&) = delete;
     Geometry& operator=(const Geometry&) = delete;
 
-    // Closest hit along the ray in (tMin, tMax).
-    std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f) const;
+    // Closest hit along the ray with t in [tMin, tMax].
+    std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f, float tMin = 0.0f) const;
     // Closest point on the mesh within radius_mm of p.
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
+    // Whether any triangle intersects the axis-aligned box [lo, hi].
+    bool surfaceCrossesBox(const Point3f& lo, const Point3f& hi) const;
 
     const TriangleMesh& mesh() const { return mesh_; }
     Point3f triangleCentroid(uint32_t prim) const {

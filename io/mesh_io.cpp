@@ -253,6 +253,8 @@ void appendGltfNode(const tinygltf::Model& model, int nodeIndex, const Mat4& par
             auto pos = prim.attributes.find("POSITION");
             if (pos == prim.attributes.end()) throw InputError(name, "primitive without POSITION");
             std::vector<float> p = readAccessor(model, pos->second, 3, name);
+            for (float x : p)
+                if (!std::isfinite(x)) throw InputError(name, "non-finite vertex position");
             std::vector<float> nrm;
             auto nit = prim.attributes.find("NORMAL");
             if (nit != prim.attributes.end()) nrm = readAccessor(model, nit->second, 3, name);

@@ -34,14 +34,16 @@ Voxelizer::Voxelizer(const Geometry& geometry, const VoxelizeSettings& settings)
             Ray ray{{x0_mm, c.y, c.z}, {1, 0, 0}};
             // Crossings with their orientation: +1 entering, -1 leaving.
             std::vector<std::pair<float, int>> crossings;
-            float t = 0;
-            while (auto hit = geometry.intersect({ray.at(t), ray.d}, length_mm - t)) {
-                float tHit = t + hit->t;
+            // All crossings along the column: restart just past each hit
+            // (the step is relative: t is in mm from outside the frame).
+            float tMin = 0;
+            while (auto hit = geometry.intersect(ray, length_mm, tMin)) {
+                float tHit = hit->t;
                 int sign = hit->ng.x < 0 ? 1 : -1;
                 // A crossing reported again on a shared edge: same sign, same place.
-                if (crossings.empty() || crossings.back().second != sign || tHit - crossings.back().first > 1e-5f)
+                if (crossings.empty() || crossings.back().second != sign || tHit - crossings.back().first > 1e-4f)
                     crossings.push_back({tHit, sign});
-                t = tHit + 1e-6f;
+                tMin = tHit + std::max(1e-5f, 4e-7f * tHit);
             }
             auto& intervals = inside_[size_t(z) * r.y + y];
             int winding = 0;
@@ -109,11 +111,10 @@ std::vector<VoxelRow> Voxelizer::slice(int z) const {
                     v.surfacePoint_mm = cp->p;
                     v.prim = cp->prim;
                     if (!inside) {
-                        // Overlap with the interior: the half-space below the
-                        // tangent plane reaches into the voxel box.
-                        const Vec3f& n = v.normal;
-                        float support = 0.5f * (std::abs(n.x) * s.x + std::abs(n.y) * s.y + std::abs(n.z) * s.z);
-                        v.member = d < support;
+                        // Centre outside: the voxel overlaps the interior iff
+                        // the surface passes through its box.
+                        Vec3f half = s * 0.5f;
+                        v.member = d <= length(half) && geometry_.surfaceCrossesBox(c - half, c + half);
                     }
                 }
             }

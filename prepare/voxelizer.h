@@ -6,9 +6,8 @@
 //    queries) for voxels within a band around the surface; bricks of 8^3
 //    voxels far from the surface are skipped whole.
 //  - Membership: a voxel belongs to the object if its centre is inside, or
-//    if it overlaps the interior (centre outside by less than the voxel's
-//    half extent along the surface normal), so no void sliver separates the
-//    mesh from the first voxels of resin.
+//    if the surface passes through its box (it overlaps the interior), so no
+//    void sliver separates the mesh from the first voxels of resin.
 // Work is streamed slice by slice in z, so memory stays proportional to the
 // band, not to the whole grid.
 #pragma once

@@ -26,8 +26,8 @@ fi
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j"$(nproc)"
 
-# The bundled cube grids are generated, not committed (a few MB each).
-if [ ! -f data/grids/cube10_white.vdb ] || [ ! -f data/grids/cube10_pattern.vdb ]; then
-  build/make-test-data data/grids
+# The test-set models and the default cube grids are generated, not committed.
+if [ ! -f data/grids/cube10_white.vdb ] || [ ! -f data/grids/cube10_greek.vdb ]; then
+  scripts/make_bundled_data.sh build
 fi
 echo "setup: built build/printlight"
