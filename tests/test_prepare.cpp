@@ -1,0 +1,215 @@
+// printlight prepare: voxel volumes, signed distances and normals against
+// analytic shapes; halftone fractions; readable errors for bad models.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <fstream>
+
+#include "io/grid_io.h"
+#include "io/input_error.h"
+#include "io/mesh_io.h"
+#include "prepare/halftone.h"
+#include "prepare/voxelizer.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+// Latitude-longitude sphere, outward winding.
+TriangleMesh sphereMesh(const Point3f& c, float r, int rings, int segments) {
+    TriangleMesh m;
+    m.positions_mm.push_back(c + Vec3f(0, 0, -r));
+    for (int i = 1; i < rings; ++i) {
+        float theta = kPi * float(i) / rings;
+        for (int j = 0; j < segments; ++j) {
+            float phi = 2 * kPi * float(j) / segments;
+            m.positions_mm.push_back(c + Vec3f(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), -std::cos(theta)) * r);
+        }
+    }
+    m.positions_mm.push_back(c + Vec3f(0, 0, r));
+    auto at = [&](int i, int j) { return uint32_t(1 + (i - 1) * segments + (j % segments)); };
+    uint32_t top = uint32_t(m.positions_mm.size() - 1);
+    for (int j = 0; j < segments; ++j) {
+        m.indices.insert(m.indices.end(), {0, at(1, j + 1), at(1, j)});
+        m.indices.insert(m.indices.end(), {top, at(rings - 1, j), at(rings - 1, j + 1)});
+        for (int i = 1; i + 1 < rings; ++i)
+            m.indices.insert(m.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    }
+    validateClosedMesh(m, "sphere");
+    return m;
+}
+
+struct VoxelStats {
+    uint64_t inside = 0, members = 0;
+    double maxSdfError = 0, maxNormalAngle_deg = 0;
+    uint64_t bandChecked = 0;
+};
+
+// Voxelises and compares band samples with an exact distance and gradient.
+VoxelStats voxelize(const Geometry& g, const VoxelizeSettings& s,
+                    const std::function<float(const Point3f&)>& exactSdf,
+                    const std::function<Vec3f(const Point3f&)>& exactNormal) {
+    Voxelizer vox(g, s);
+    VoxelStats st;
+    for (int z = 0; z < vox.frame().resolution.z; ++z) {
+        auto rows = vox.slice(z);
+        for (int y = 0; y < int(rows.size()); ++y)
+            for (const VoxelSample& v : rows[size_t(y)].samples) {
+                st.inside += v.inside;
+                st.members += v.member;
+                if (!v.inBand) continue;
+                Point3f c = vox.frame().voxelCenter_mm({v.x, y, z});
+                st.maxSdfError = std::max(st.maxSdfError, double(std::abs(v.sdf_mm - exactSdf(c))));
+                if (std::abs(v.sdf_mm) > 0.05f) {  // gradients are ill-defined at the surface itself
+                    Vec3f n = exactNormal(c);
+                    double angle = std::acos(std::clamp(double(dot(n, v.normal)), -1.0, 1.0)) * 180 / kPi;
+                    st.maxNormalAngle_deg = std::max(st.maxNormalAngle_deg, angle);
+                }
+                ++st.bandChecked;
+            }
+    }
+    return st;
+}
+
+TEST(Voxelizer, SphereVolumeDistanceAndNormals) {
+    const Point3f c{1.3f, -0.7f, 2.1f};
+    const float r = 2.0f;
+    Geometry g(sphereMesh(c, r, 96, 192));
+    VoxelizeSettings s;
+    s.band_mm = 0.5f;
+    VoxelStats st = voxelize(
+        g, s, [&](const Point3f& p) { return length(p - c) - r; },
+        [&](const Point3f& p) { return normalize(p - c); });
+    double voxelVolume = double(s.voxel_mm.x) * s.voxel_mm.y * s.voxel_mm.z;
+    double analytic = 4.0 / 3.0 * kPi * r * r * r;
+    EXPECT_NEAR(st.inside * voxelVolume, analytic, 0.01 * analytic);
+    EXPECT_GT(st.members, st.inside);  // the conservative fill adds the cut voxels
+    // Facets deviate from the sphere by r (1 - cos(pi / 192)) ~ 0.27 um.
+    EXPECT_GT(st.bandChecked, 100000u);
+    EXPECT_LT(st.maxSdfError, 2e-3);
+    EXPECT_LT(st.maxNormalAngle_deg, 3.0);
+}
+
+TEST(Voxelizer, CubeVolumeAndDistance) {
+    const Vec3f lo{0.25f, 0.5f, 0.75f}, hi{10.25f, 10.5f, 10.75f};
+    Geometry g(test::boxMesh(lo, hi));
+    VoxelizeSettings s;
+    s.band_mm = 0.15f;
+    auto boxSdf = [&](const Point3f& p) {
+        float out2 = 0, in = -1e30f;
+        for (int a = 0; a < 3; ++a) {
+            float d = std::max(lo[a] - p[a], p[a] - hi[a]);
+            if (d > 0) out2 += d * d;
+            in = std::max(in, d);
+        }
+        return out2 > 0 ? std::sqrt(out2) : in;
+    };
+    VoxelStats st = voxelize(g, s, boxSdf, [](const Point3f&) { return Vec3f(1, 0, 0); });
+    double voxelVolume = double(s.voxel_mm.x) * s.voxel_mm.y * s.voxel_mm.z;
+    double analytic = 1000.0;
+    EXPECT_NEAR(st.inside * voxelVolume, analytic, 0.01 * analytic);
+    EXPECT_LT(st.maxSdfError, 1e-4);
+    // Exactly the voxels whose centre lies inside the box, axis by axis.
+    Voxelizer vox(g, s);
+    uint64_t expected = 1;
+    for (int a = 0; a < 3; ++a) {
+        uint64_t n = 0;
+        for (int i = 0; i < vox.frame().resolution[a]; ++i) {
+            float c = vox.frame().cornerMin_mm[a] + (i + 0.5f) * vox.frame().voxelSize_mm[a];
+            n += c > lo[a] && c < hi[a];
+        }
+        expected *= n;
+    }
+    EXPECT_EQ(st.inside, expected);
+}
+
+TEST(Halftone, ReproducesConstantFractionsOnALargeBlock) {
+    const int n = 64;
+    for (RGB color : {RGB{0.6f, 0.3f, 0.8f}, RGB{0.9f, 0.85f, 0.2f}, RGB{0.15f, 0.5f, 0.45f}}) {
+        MaterialFractions target = fractionsForColor(color);
+        float sum = 0;
+        for (float f : target) sum += f;
+        ASSERT_NEAR(sum, 1.0f, 1e-6f);
+        ErrorDiffusionHalftoner h(n, n);
+        std::vector<MaterialFractions> targets(size_t(n) * n, target);
+        std::vector<uint8_t> active(targets.size(), 1), chosen;
+        std::array<double, kPrintMaterials> counts{};
+        for (int z = 0; z < n; ++z) {
+            h.halftoneSlice(z, targets, active, chosen);
+            for (uint8_t m : chosen) counts[m] += 1;
+        }
+        for (int m = 0; m < kPrintMaterials; ++m)
+            EXPECT_NEAR(counts[size_t(m)] / (double(n) * n * n), target[size_t(m)], 0.01) << "material " << m;
+    }
+}
+
+TEST(Halftone, MixingModelCornerCases) {
+    auto f = fractionsForColor({1, 1, 1});
+    EXPECT_FLOAT_EQ(f[4], 1.0f);
+    f = fractionsForColor({0, 0, 0});
+    EXPECT_FLOAT_EQ(f[3], 1.0f);
+    f = fractionsForColor({0, 1, 1});  // cyan
+    EXPECT_FLOAT_EQ(f[0], 1.0f);
+}
+
+int runPrintlight(const std::string& args, std::string& err) {
+    auto dir = test::freshTempDir("prepare_cli_out");
+    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >/dev/null 2>" + (dir / "err.txt").string();
+    int status = std::system(cmd.c_str());
+    std::ifstream in(dir / "err.txt");
+    err.assign(std::istreambuf_iterator<char>(in), {});
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
+    auto dir = test::freshTempDir("prepare_cli");
+    // OBJ whose material names a texture that is not there.
+    std::ofstream(dir / "cube.mtl") << "newmtl skin\nKd 1 1 1\nmap_Kd missing.png\n";
+    std::ofstream obj(dir / "cube.obj");
+    obj << "mtllib cube.mtl\nusemtl skin\n";
+    TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 1, 1});
+    for (const auto& p : box.positions_mm) obj << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
+    for (size_t t = 0; t < box.triangleCount(); ++t)
+        obj << "f " << box.indices[3 * t] + 1 << ' ' << box.indices[3 * t + 1] + 1 << ' ' << box.indices[3 * t + 2] + 1 << '\n';
+    obj.close();
+    std::string err;
+    EXPECT_EQ(runPrintlight("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    // A texture file that is not an image.
+    std::ofstream(dir / "missing.png") << "not a png";
+    EXPECT_EQ(runPrintlight("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
+    // An open mesh.
+    box.indices.resize(box.indices.size() - 3);
+    writeObj(box, dir / "open.obj");
+    EXPECT_EQ(runPrintlight("prepare " + (dir / "open.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_NE(err.find("not closed"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(dir / "out.vdb"));
+}
+
+TEST(PrepareCli, WritesLabelsSdfAndNormalsThatReadBack) {
+    auto dir = test::freshTempDir("prepare_ok");
+    writeObj(test::boxMesh({0, 0, 0}, {2, 1.5f, 1}), dir / "box.obj");
+    std::string err;
+    ASSERT_EQ(runPrintlight("prepare " + (dir / "box.obj").string() + " -o " + (dir / "box.vdb").string() +
+                                " --color 0.2,0.6,0.9 --extrude-mm 0.2 --keep-colors --quiet",
+                            err),
+              0)
+        << err;
+    LabelGrid grid = loadLabelGrid(dir / "box.vdb", std::nullopt);
+    auto hist = grid.histogram();
+    EXPECT_GT(hist[0], 0u);  // cyan for a bluish target
+    EXPECT_GT(hist[4], 0u);  // white inside and in the mix
+    EXPECT_EQ(grid.voidLabel(), 5);
+    // The surface voxels of the prepared grid sit on the box.
+    for (const SurfaceVoxel& sv : grid.surfaceVoxels()) {
+        Point3f c = grid.frame().voxelCenter_mm(sv.voxel);
+        float dOut = 0;
+        for (int a = 0; a < 3; ++a) dOut = std::max(dOut, std::max(-c[a], c[a] - (a == 0 ? 2.0f : a == 1 ? 1.5f : 1.0f)));
+        ASSERT_LT(dOut, 0.5f * 0.0847f + 1e-4f);
+    }
+}
+
+}  // namespace
+}  // namespace pl
