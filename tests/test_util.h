@@ -2,6 +2,7 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -100,7 +101,9 @@ inline double chiSquareZ(const std::vector<double>& observed, const std::vector<
 constexpr double kChiSquareZLimit = 4.3;
 
 inline std::filesystem::path freshTempDir(const std::string& name) {
-    auto dir = std::filesystem::temp_directory_path() / ("printlight_test_" + name);
+    // Per process: ctest runs test cases in parallel processes.
+    auto dir = std::filesystem::temp_directory_path() /
+               ("printlight_test_" + name + "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
