@@ -4,7 +4,7 @@
 //   cube10.gltf, cube20.gltf                 10 / 20 mm cubes, white
 //   cube10_greek.gltf, cube20_greek.gltf     the same with a high-frequency meander texture (greek.png)
 //   animal.gltf, animal_spotted.gltf         a thin, curvy seahorse-like tube ~5 x 12 x 13 mm, white / spotted (spots.png)
-//   bone.gltf                                a ~42 mm bone-like shape with ~60k triangles (memory and scale)
+//   bone.gltf                                a ~44 mm bone-like shape with ~60k triangles (memory and scale)
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
         TriangleMesh animal;
         SurfaceAppearance animalLook = textured;
         sweep(240, 24,
-              [](float s) { return Point3f(0.8f * std::sin(3 * kPi * s), 3.5f * std::sin(1.6f * kPi * s), 12.0f * s); },
+              [](float s) { return Point3f(0.8f * std::sin(3 * kPi * s), 4.6f * std::sin(1.6f * kPi * s), 12.0f * s); },
               [](float s, float) { return 0.3f + 1.9f * std::pow(std::max(0.0f, std::sin(kPi * s)), 0.8f) * (1.0f - 0.6f * s); },
               animal, animalLook);
         writeGltf(animal, animalLook, "spots.png", dir / "animal_spotted.gltf");
@@ -169,9 +169,9 @@ int main(int argc, char** argv) {
 
         TriangleMesh bone;
         SurfaceAppearance boneLook;
-        sweep(320, 96, [](float s) { return Point3f(40.0f * s, 0.0f, 0.0f); },
+        sweep(320, 96, [](float s) { return Point3f(30.0f * s, 0.0f, 0.0f); },
               [](float s, float phi) {
-                  float knobs = 5.0f * (std::exp(-std::pow(s / 0.09f, 2.0f)) + std::exp(-std::pow((1 - s) / 0.09f, 2.0f)));
+                  float knobs = 4.0f * (std::exp(-std::pow(s / 0.09f, 2.0f)) + std::exp(-std::pow((1 - s) / 0.09f, 2.0f)));
                   float ridges = 1.0f + 0.06f * std::sin(3 * phi) * std::sin(11 * kPi * s);
                   return (2.8f + knobs) * ridges;
               },

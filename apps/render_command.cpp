@@ -106,6 +106,9 @@ int renderCommand(const std::vector<std::string>& argv) {
             voxels.push_back(px.voxel);
         writeSurfaceResultVdb(f, voxels, result.film, outputs[2]);
     }
+    if (result.stats.trapped)
+        std::fprintf(stderr, "printlight: warning: %s paths were trapped (over %lld boundary events without scattering)\n",
+                     withThousands(result.stats.trapped).c_str(), (long long)kMaxBoundaryBounces);
     if (result.stats.leaks)
         std::fprintf(stderr, "printlight: warning: %s rays escaped through the mesh (numerical leaks)\n",
                      withThousands(result.stats.leaks).c_str());

@@ -21,40 +21,30 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float Le = scene_.environment[channel];
     const float eps = geometry.rayEpsilon_mm();
-    float beta = 1.0f;  // path throughput
-    int64_t depth = 0;
+    float beta = 1.0f;          // path throughput
+    int64_t depth = 0;          // scattering events
+    int64_t bounces = 0;        // boundary events since the last scattering event
+    bool spawnedInside = false; // only for counting numerical leaks
     stats.paths += 1;
 
     for (;;) {
-        // Outside: find the object or escape to the environment.
-        auto entry = geometry.intersect(ray);
-        if (!entry) return beta * Le;
-
-        // Enter through the smooth dielectric: reflect with probability F.
-        float cosIn = -dot(ray.d, entry->ns);
-        float F = fresnelDielectric(cosIn, scene_.ior);
-        if (rng.uniform() < F) {
-            Vec3f r = reflectOnSide(ray.d, *entry);
-            if (!options_.reentry) return beta * Le;  // leaves the object for good
-            ray = spawnRay(entry->p, entry->ng, r, eps);
-            continue;
+        // Which side the ray is on follows from the boundary it reaches
+        // next, never from a remembered state: a ray that round-off put on
+        // the other side stays consistent.
+        auto hit = geometry.intersect(ray);
+        if (!hit) {
+            if (spawnedInside) stats.leaks += 1;
+            return beta * Le;  // escapes to the environment
         }
-        auto t = refract(ray.d, entry->ns, scene_.ior);
-        ray = spawnRay(entry->p, entry->ng, t ? *t : ray.d, eps);
-        if (dot(ray.d, entry->ng) >= 0) ray.d = -entry->ng;  // shading-normal mishap
+        bool fromInside = dot(ray.d, hit->ng) > 0;
 
-        // Inside: random walk until the path leaves the object or dies.
-        for (;;) {
-            auto exit = geometry.intersect(ray);
-            if (!exit) {
-                // Numerically outside an open mesh: count it and leave.
-                stats.leaks += 1;
-                return beta * Le;
-            }
-            FreeFlight ff = medium.sampleFreeFlight(ray, exit->t, channel, rng);
+        if (fromInside) {
+            // Medium: delta tracking up to the boundary.
+            FreeFlight ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);
             if (ff.scattered) {
                 // Real collision: absorb by throughput Russian roulette.
                 stats.scatterEvents += 1;
+                bounces = 0;
                 beta *= lut.albedo[ff.label];
                 if (beta < 1.0f) {
                     if (rng.uniform() >= beta) return 0.0f;
@@ -65,27 +55,41 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                 PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
-                float t = std::max(0.0f, std::min(ff.t_mm, exit->t - eps));
+                float t = std::max(0.0f, std::min(ff.t_mm, hit->t - eps));
                 ray = {ray.at(t), ps.dOut};
+                spawnedInside = true;
                 continue;
             }
-
-            // Reached the boundary from inside: reflect with probability F
-            // (always under total internal reflection), else leave.
-            float cosOut = dot(ray.d, exit->ns);
-            float Fout = fresnelDielectric(cosOut, 1.0f / scene_.ior);
-            if (rng.uniform() < Fout) {
-                ray = spawnRay(exit->p, exit->ng, reflectOnSide(ray.d, *exit), eps);
-                if (dot(ray.d, exit->ng) >= 0) ray.d = -exit->ng;
-                continue;
-            }
-            if (!options_.reentry) return beta * Le;
-            auto tOut = refract(ray.d, -exit->ns, 1.0f / scene_.ior);
-            Vec3f dOut = tOut ? *tOut : ray.d;
-            if (dot(dOut, exit->ng) <= 0) dOut = exit->ng;
-            ray = spawnRay(exit->p, exit->ng, dOut, eps);
-            break;  // outside again
         }
+        // Light that only ever meets the boundary (total internal reflection
+        // in a lossless region) would bounce forever: give up after a very
+        // long run without scattering; it never reaches the environment.
+        if (++bounces > kMaxBoundaryBounces) {
+            stats.trapped += 1;
+            return 0.0f;
+        }
+
+        // Smooth dielectric: reflect with probability F (1 under total
+        // internal reflection), else refract to the other side.
+        float eta = fromInside ? 1.0f / scene_.ior : scene_.ior;
+        Vec3f n = fromInside ? -hit->ns : hit->ns;  // facing against the ray
+        float F = fresnelDielectric(-dot(ray.d, n), eta);
+        bool reflected = rng.uniform() < F;
+        bool nowOutside = fromInside != reflected;
+        // Without re-entry, light that leaves the object is done.
+        if (nowOutside && !options_.reentry) return beta * Le;
+        Vec3f d;
+        if (reflected) {
+            d = reflectOnSide(ray.d, *hit);
+        } else {
+            auto t = refract(ray.d, n, eta);
+            d = t ? *t : ray.d;
+        }
+        // Shading normals must not send the ray to the wrong side.
+        float side = nowOutside ? 1.0f : -1.0f;
+        if (dot(d, hit->ng) * side <= 0) d = hit->ng * side;
+        ray = spawnRay(hit->p, hit->ng, d, eps);
+        spawnedInside = !nowOutside;
     }
 }
 
