@@ -117,16 +117,7 @@ Texture readTexture(const std::filesystem::path& file) {
     if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, data.data()))
         throw InputError(file.string(), "cannot read texture: " + in->geterror());
     bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
-    Texture t;
-    t.width = spec.width;
-    t.height = spec.height;
-    t.linear.resize(size_t(t.width) * t.height);
-    for (size_t i = 0; i < t.linear.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            float v = data[i * size_t(spec.nchannels) + size_t(std::min(c, spec.nchannels - 1))];
-            t.linear[i][c] = encoded ? srgbToLinear(v) : v;
-        }
-    return t;
+    return Texture::fromInterleaved(spec.width, spec.height, spec.nchannels, data, encoded);
 }
 
 void writeTexturePng(const Texture& texture, const std::filesystem::path& file) {

@@ -321,19 +321,10 @@ Texture textureFromGltfImage(const tinygltf::Image& im, const std::string& name)
     if (im.width <= 0 || im.height <= 0 || im.component < 1 || (im.bits != 8 && im.bits != 16) ||
         im.image.size() < size_t(im.width) * im.height * im.component * (im.bits / 8))
         throw InputError(name, "texture image '" + im.uri + "' could not be decoded");
-    Texture t;
-    t.width = im.width;
-    t.height = im.height;
-    t.linear.resize(size_t(im.width) * im.height);
-    for (size_t i = 0; i < t.linear.size(); ++i)
-        for (int c = 0; c < 3; ++c) {
-            int comp = std::min(c, im.component - 1);  // grey images repeat their channel
-            size_t at = i * size_t(im.component) + size_t(comp);
-            float v = im.bits == 8 ? im.image[at] / 255.0f
-                                   : (im.image[2 * at] | (im.image[2 * at + 1] << 8)) / 65535.0f;
-            t.linear[i][c] = srgbToLinear(v);
-        }
-    return t;
+    std::vector<float> values(size_t(im.width) * im.height * size_t(im.component));
+    for (size_t at = 0; at < values.size(); ++at)
+        values[at] = im.bits == 8 ? im.image[at] / 255.0f : (im.image[2 * at] | (im.image[2 * at + 1] << 8)) / 65535.0f;
+    return Texture::fromInterleaved(im.width, im.height, im.component, values, true);
 }
 
 MeshAsset loadGltf(const std::filesystem::path& file) {

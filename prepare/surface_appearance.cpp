@@ -8,6 +8,20 @@ float srgbToLinear(float v) {
     return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
 
+Texture Texture::fromInterleaved(int width, int height, int channels, const std::vector<float>& values,
+                                 bool srgbEncoded) {
+    Texture t;
+    t.width = width;
+    t.height = height;
+    t.linear.resize(size_t(width) * height);
+    for (size_t i = 0; i < t.linear.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = values[i * size_t(channels) + size_t(std::min(c, channels - 1))];
+            t.linear[i][c] = srgbEncoded ? srgbToLinear(v) : v;
+        }
+    return t;
+}
+
 RGB Texture::sample(float u, float v) const {
     if (width <= 0 || height <= 0) return {1, 1, 1};
     // Texel centres at (i + 0.5) / width.

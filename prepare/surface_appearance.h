@@ -18,6 +18,10 @@ struct Texture {
     std::vector<RGB> linear;  // row-major, top row first
     // Bilinear lookup; (u, v) as in glTF: v = 0 is the top row; repeat wrap.
     RGB sample(float u, float v) const;
+    // From interleaved values in [0, 1] with `channels` per texel (grey
+    // repeats its channel, alpha is ignored); sRGB-decoded if srgbEncoded.
+    static Texture fromInterleaved(int width, int height, int channels, const std::vector<float>& values,
+                                   bool srgbEncoded);
 };
 
 struct SurfaceMaterial {

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "io/grid_io.h"
+#include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"
 #include "prepare/halftone.h"
@@ -150,6 +151,38 @@ TEST(Halftone, MixingModelCornerCases) {
     EXPECT_FLOAT_EQ(f[3], 1.0f);
     f = fractionsForColor({0, 1, 1});  // cyan
     EXPECT_FLOAT_EQ(f[0], 1.0f);
+}
+
+TEST(SurfaceColors, TexturedGltfRoundTripsToTheRightTexels) {
+    auto dir = test::freshTempDir("gltf_texture");
+    // A 2 x 2 texture: red, green / blue, white (top row first).
+    Texture tex;
+    tex.width = tex.height = 2;
+    tex.linear = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+    writeTexturePng(tex, dir / "tex.png");
+    // One unit square face of a box gets the whole texture; the rest (0, 0).
+    TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 1, 1});
+    SurfaceAppearance look;
+    look.materials.push_back({{1, 1, 1}, 0});
+    look.uvs.assign(box.positions_mm.size(), {0.25f, 0.25f});
+    for (size_t i = 0; i < box.positions_mm.size(); ++i) {
+        const Point3f& p = box.positions_mm[i];
+        look.uvs[i] = {p.x, 1.0f - p.y};  // the z faces map x -> u, y -> up
+    }
+    writeGltf(box, look, "tex.png", dir / "box.gltf");
+    MeshAsset asset = loadMeshAsset(dir / "box.gltf");
+    ASSERT_EQ(asset.appearance.textures.size(), 1u);
+    Geometry g(std::move(asset.mesh));
+    // Points on the top face (z = 1) at the texel centres.
+    struct Probe { Point3f p; RGB expected; };
+    const Probe probes[] = {{{0.25f, 0.75f, 1}, {1, 0, 0}}, {{0.75f, 0.75f, 1}, {0, 1, 0}},
+                            {{0.25f, 0.25f, 1}, {0, 0, 1}}, {{0.75f, 0.25f, 1}, {1, 1, 1}}};
+    for (const Probe& pr : probes) {
+        auto hit = g.intersect({pr.p + Vec3f(0, 0, 1), {0, 0, -1}});
+        ASSERT_TRUE(hit);
+        RGB c = asset.appearance.colorAt(g.mesh(), hit->prim, hit->p);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(c[k], pr.expected[k], 2e-3f) << pr.p.x << "," << pr.p.y;
+    }
 }
 
 int runPrintlight(const std::string& args, std::string& err) {
