@@ -45,7 +45,7 @@ double secondsSince(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "-o"}, {"--quiet"});
+    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "--integrator", "-o"}, {"--quiet"});
     if (args.positional().size() != 1) throw UsageError("render needs exactly one SCENE.json");
     auto t0 = std::chrono::steady_clock::now();
 
@@ -56,6 +56,12 @@ int renderCommand(const std::vector<std::string>& argv) {
         auto channels = parseChannels(*ch);
         if (!channels) throw UsageError("--channel must be r, g, b or rgb");
         desc.render.channels = *channels;
+    }
+    if (auto in = args.value("--integrator")) {
+        if (*in != "volpath" && *in != "printpt") throw UsageError("--integrator must be volpath or printpt");
+        if (*in == "printpt" && desc.render.volpath.reentry)
+            throw UsageError("printpt does not trace re-entry; the scene asks for \"reentry\": true");
+        desc.render.integrator = *in;
     }
     int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
     tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
@@ -82,11 +88,11 @@ int renderCommand(const std::vector<std::string>& argv) {
     const GridFrame& f = scene.medium->frame();
     if (!quiet)
         std::fprintf(stderr,
-                     "printlight: %s: %zu triangles, grid %dx%dx%d, sensor %s with %s pixels, "
+                     "printlight: %s: %zu triangles, grid %dx%dx%d, sensor %s with %s pixels, %s, "
                      "%u spp, %zu channel pass(es), %d thread(s), set-up %.2f s\n",
                      desc.sceneFile.string().c_str(), scene.geometry->mesh().triangleCount(),
                      f.resolution.x, f.resolution.y, f.resolution.z, desc.sensor.type.c_str(),
-                     withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
+                     withThousands(sensor->pixelCount()).c_str(), desc.render.integrator.c_str(), desc.render.spp,
                      desc.render.channels.size(), threads, setupSeconds);
 
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();

@@ -12,7 +12,9 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     auto start = std::chrono::steady_clock::now();
     const size_t pixels = sensor.pixelCount();
     RenderResult result{Film(pixels), {}, 0};
-    VolPath volpath(scene, settings.volpath);
+    std::unique_ptr<Integrator> integrator;
+    if (settings.integrator == "printpt") integrator = std::make_unique<PrintPt>(scene, settings.printpt);
+    else integrator = std::make_unique<VolPath>(scene, settings.volpath);
 
     ProgressBar progress(uint64_t(pixels) * settings.channels.size(), "rendering",
                          settings.showProgress);
@@ -28,7 +30,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
                     Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
-                    result.film.add(p, channel, volpath.Li(ray, channel, medium, rng, stats));
+                    result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
                 }
             }
             progress.advance(end - begin);

@@ -8,16 +8,18 @@
 #include "core/film.h"
 #include "core/sensors.h"
 #include "integrators/scene.h"
+#include "integrators/printpt.h"
 #include "integrators/volpath.h"
 
 namespace pl {
 
 struct RenderSettings {
-    std::string integrator = "volpath";
+    std::string integrator = "volpath";  // volpath | printpt
     uint32_t spp = 16;
     uint64_t seed = 1;
     std::vector<int> channels{0, 1, 2};  // one pass per channel, in this order
     VolPathOptions volpath;
+    PrintPtOptions printpt;
     bool showProgress = false;
 };
 

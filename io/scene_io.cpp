@@ -93,9 +93,11 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     RenderSettings& r = d.render;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry"});
+        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry",
+                                            "branches", "rr_cap", "fresnel_weighting", "medium_first"});
         r.integrator = json.string(ren, "integrator", "render", "volpath");
-        if (r.integrator != "volpath") json.fail("render.integrator", "must be volpath");
+        if (r.integrator != "volpath" && r.integrator != "printpt")
+            json.fail("render.integrator", "must be volpath or printpt");
         int64_t spp = json.integer(ren, "spp", "render", 16);
         if (spp < 1 || spp > (int64_t(1) << 24)) json.fail("render.spp", "must be in 1..16777216");
         r.spp = uint32_t(spp);
@@ -107,6 +109,16 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         r.channels = *ch;
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
+        PrintPtOptions& pp = r.printpt;
+        int64_t branches = json.integer(ren, "branches", "render", pp.branches);
+        if (branches < 1 || branches > 1024) json.fail("render.branches", "must be in 1..1024");
+        pp.branches = int(branches);
+        pp.rrCap = float(json.number(ren, "rr_cap", "render", pp.rrCap));
+        if (!(pp.rrCap > 0 && pp.rrCap <= 1)) json.fail("render.rr_cap", "must be in (0, 1]");
+        pp.fresnelWeighting = json.boolean(ren, "fresnel_weighting", "render", pp.fresnelWeighting);
+        pp.mediumFirst = json.boolean(ren, "medium_first", "render", pp.mediumFirst);
+        if (r.integrator == "printpt" && r.volpath.reentry)
+            json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
     }
 
     // output

@@ -1,0 +1,37 @@
+// What the render driver asks of an estimator: the radiance arriving along
+// a camera ray, in one colour channel, from one path (or a few branches).
+#pragma once
+
+#include <cstdint>
+
+#include "core/rng.h"
+#include "integrators/scene.h"
+
+namespace pl {
+
+struct PathStats {
+    uint64_t paths = 0;
+    uint64_t scatterEvents = 0;  // real collisions that scattered
+    uint64_t leaks = 0;          // rays inside that found no boundary (mesh not closed)
+    uint64_t trapped = 0;        // paths ended after kMaxBoundaryBounces without scattering
+    void operator+=(const PathStats& o) {
+        paths += o.paths;
+        scatterEvents += o.scatterEvents;
+        leaks += o.leaks;
+        trapped += o.trapped;
+    }
+};
+
+// Boundary events in a row, without scattering, after which a path counts
+// as trapped (lossless total internal reflection) and ends.
+constexpr int64_t kMaxBoundaryBounces = 10000000;
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    // Radiance arriving along -ray.d at ray.o (a point outside the object).
+    virtual float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                     PathStats& stats) const = 0;
+};
+
+}  // namespace pl
