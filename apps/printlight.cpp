@@ -16,6 +16,9 @@ const char* kUsage =
     "          [--materials FILE] [--halftone error-diffusion|nearest] [--fill conservative|center]\n"
     "          [--color R,G,B] [--keep-colors] [--scene-out PREFIX]\n"
     "         voxelises a textured mesh into labels, sdf and normal grids\n"
+    "  bench SCENE.json --make-reference REF.exr [--spp N] [--integrator volpath|printpt]\n"
+    "  bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs volpath,printpt,...] [--out PREFIX]\n"
+    "         error against run time of estimator configurations (writes PREFIX.md/.csv/.svg)\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }
@@ -31,6 +34,7 @@ int main(int argc, char** argv) {
         if (command == "render") return pl::renderCommand(args);
         if (command == "info") return pl::infoCommand(args);
         if (command == "prepare") return pl::prepareCommand(args);
+        if (command == "bench") return pl::benchCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::UsageError& e) {
         std::fprintf(stderr, "printlight: %s\n%s", e.what(), kUsage);

@@ -1,0 +1,264 @@
+// printlight bench: error against run time (DESIGN.md section 5).
+//   printlight bench SCENE.json --make-reference REF.exr [--spp N] [--integrator I]
+//   printlight bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs a,b,...] [--out PREFIX]
+// Each configuration renders at each time budget (seconds; the spp is chosen
+// from a 1-spp calibration run) and is compared with the reference: RMSE and
+// relative MSE over all pixels and channels, MSE x time (lower is better),
+// and the equal-error speed-up over volpath = (MSE x time)_volpath /
+// (MSE x time)_config. Writes PREFIX.md, PREFIX.csv and PREFIX.svg.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "apps/arguments.h"
+#include "core/progress.h"
+#include "io/image_io.h"
+#include "io/input_error.h"
+#include "io/output_file.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+namespace {
+
+// Named estimator configurations: each printpt switch on its own.
+std::map<std::string, RenderSettings> configurations(const RenderSettings& base) {
+    std::map<std::string, RenderSettings> c;
+    RenderSettings v = base;
+    v.integrator = "volpath";
+    v.volpath.reentry = false;
+    c["volpath"] = v;
+    RenderSettings p = v;
+    p.integrator = "printpt";
+    p.printpt = PrintPtOptions{};
+    c["printpt"] = p;
+    RenderSettings q = p;
+    q.printpt.branches = 1;
+    c["printpt-k1"] = q;
+    q = p;
+    q.printpt.mediumFirst = false;
+    c["printpt-geometry-first"] = q;
+    q = p;
+    q.printpt.fresnelWeighting = false;
+    c["printpt-random-fresnel"] = q;
+    q = p;
+    q.printpt.rrCap = 0.9f;
+    c["printpt-rr0.9"] = q;
+    q = p;
+    q.printpt.rrCap = 1.0f;
+    c["printpt-rr1"] = q;
+    q = p;
+    q.printpt.branches = 16;
+    c["printpt-k16"] = q;
+    return c;
+}
+
+std::vector<std::string> splitList(const std::string& s) {
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ',')) out.push_back(item);
+    return out;
+}
+
+struct Row {
+    std::string config;
+    double budget, seconds;
+    uint32_t spp;
+    RGB rmseChannel;
+    double rmse, relMse, mseTime;
+};
+
+struct Errors {
+    RGB rmse;
+    double rmseAll, relMse;
+};
+
+Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref) {
+    double se[3] = {0, 0, 0}, rel = 0;
+    size_t n = 0;
+    for (size_t p = 0; p < film.pixelCount(); ++p) {
+        int64_t i = sensor.pixelImageIndex(p);
+        if (i < 0) continue;  // hidden in the atlas: not in the reference image
+        ++n;
+        for (int c = 0; c < 3; ++c) {
+            double r = ref.mean[size_t(i)][c], d = film.mean(p, c) - r;
+            se[c] += d * d;
+            rel += d * d / (r * r + 1e-3);
+        }
+    }
+    Errors e;
+    for (int c = 0; c < 3; ++c) e.rmse[c] = float(std::sqrt(se[c] / double(n)));
+    e.rmseAll = std::sqrt((se[0] + se[1] + se[2]) / (3.0 * n));
+    e.relMse = rel / (3.0 * n);
+    return e;
+}
+
+void writeText(const std::filesystem::path& file, const std::string& text) {
+    OutputFile out(file);
+    {
+        std::ofstream os(out.tempPath());
+        os << text;
+        if (!os) throw InputError(file.string(), "write failed");
+    }
+    out.commit();
+}
+
+// Log-log plot of RMSE against time, one polyline per configuration.
+std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
+    double tMin = 1e30, tMax = 0, eMin = 1e30, eMax = 0;
+    for (const Row& r : rows) {
+        tMin = std::min(tMin, r.seconds); tMax = std::max(tMax, r.seconds);
+        eMin = std::min(eMin, r.rmse); eMax = std::max(eMax, r.rmse);
+    }
+    double lt0 = std::floor(std::log10(tMin)), lt1 = std::ceil(std::log10(tMax));
+    double le0 = std::floor(std::log10(eMin)), le1 = std::ceil(std::log10(eMax));
+    if (lt1 <= lt0) lt1 = lt0 + 1;
+    if (le1 <= le0) le1 = le0 + 1;
+    const double W = 640, H = 420, L = 70, R = 190, T = 40, B = 50;
+    auto x = [&](double t) { return L + (std::log10(t) - lt0) / (lt1 - lt0) * (W - L - R); };
+    auto y = [&](double e) { return H - B - (std::log10(e) - le0) / (le1 - le0) * (H - T - B); };
+    std::ostringstream s;
+    s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H << "' font-family='sans-serif' font-size='12'>\n";
+    s << "<rect width='100%' height='100%' fill='white'/>\n<text x='" << L << "' y='20'>" << title << "</text>\n";
+    s << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='" << H - T - B << "' fill='none' stroke='black'/>\n";
+    for (double d = lt0; d <= lt1; d += 1)
+        s << "<text x='" << x(std::pow(10, d)) - 10 << "' y='" << H - B + 16 << "'>1e" << d << "</text>\n";
+    for (double d = le0; d <= le1; d += 1)
+        s << "<text x='" << 20 << "' y='" << y(std::pow(10, d)) + 4 << "'>1e" << d << "</text>\n";
+    s << "<text x='" << (W - R + L) / 2 - 30 << "' y='" << H - 12 << "'>time (s)</text>\n";
+    s << "<text x='14' y='" << T - 8 << "'>RMSE</text>\n";
+    const char* colors[] = {"#000000", "#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2"};
+    std::vector<std::string> names;
+    for (const Row& r : rows)
+        if (std::find(names.begin(), names.end(), r.config) == names.end()) names.push_back(r.config);
+    for (size_t k = 0; k < names.size(); ++k) {
+        const char* col = colors[k % 8];
+        s << "<polyline fill='none' stroke='" << col << "' stroke-width='2' points='";
+        for (const Row& r : rows)
+            if (r.config == names[k]) s << x(r.seconds) << "," << y(r.rmse) << " ";
+        s << "'/>\n";
+        for (const Row& r : rows)
+            if (r.config == names[k]) s << "<circle cx='" << x(r.seconds) << "' cy='" << y(r.rmse) << "' r='3' fill='" << col << "'/>\n";
+        s << "<text x='" << W - R + 10 << "' y='" << T + 16 * (k + 1) << "' fill='" << col << "'>" << names[k] << "</text>\n";
+    }
+    s << "</svg>\n";
+    return s.str();
+}
+
+}  // namespace
+
+int benchCommand(const std::vector<std::string>& argv) {
+    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {});
+    if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
+    SceneDescription desc = parseScene(args.positional()[0]);
+    Scene scene = loadScene(desc);
+    std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
+    RenderSettings base = desc.render;
+    base.channels = {0, 1, 2};
+    base.volpath.reentry = false;  // surface prediction: the estimators must agree
+
+    if (auto refPath = args.value("--make-reference")) {
+        // The reference: many samples of the trusted estimator (volpath by default).
+        RenderSettings s = base;
+        s.integrator = args.value("--integrator").value_or("volpath");
+        s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
+        s.seed = 0x5eed;
+        s.showProgress = ProgressBar::stderrIsTerminal();
+        refuseToOverwriteInputs(*refPath, desc.inputFiles());
+        RenderResult r = render(scene, *sensor, s);
+        RadianceImage im = filmToImage(r.film, *sensor);
+        im.metadata = {{"reference_spp", std::to_string(s.spp)}, {"integrator", s.integrator}};
+        writeExr(im, *refPath);
+        double var = 0;
+        size_t n = 0;
+        for (size_t p = 0; p < r.film.pixelCount(); ++p)
+            for (int c = 0; c < 3; ++c, ++n) var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+        std::printf("reference %s: %s, %u spp, %.1f s; its own RMS standard error per pixel %.3g\n",
+                    refPath->c_str(), s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
+        return 0;
+    }
+
+    auto refPath = args.value("--reference");
+    if (!refPath) throw UsageError("bench needs --reference REF.exr (make one with --make-reference)");
+    RadianceImage ref = readExr(*refPath);
+    if (ref.width != sensor->imageWidth() || ref.height != sensor->imageHeight())
+        throw InputError(*refPath, "reference image size does not match the scene's sensor");
+    double refVar = 0;
+    size_t refN = 0;
+    for (size_t i = 0; i < ref.mean.size(); ++i)
+        if (ref.coverage[i] > 0)
+            for (int c = 0; c < 3; ++c, ++refN) refVar += double(ref.standardError[i][c]) * ref.standardError[i][c];
+    refVar /= double(std::max<size_t>(refN, 1));
+
+    std::vector<double> budgets;
+    for (const std::string& b : splitList(args.value("--budgets").value_or("1,2,4,8"))) {
+        try {
+            budgets.push_back(std::stod(b));
+        } catch (const std::exception&) {
+            throw UsageError("--budgets takes seconds, e.g. 1,2,4,8");
+        }
+        if (!(budgets.back() > 0)) throw UsageError("--budgets must be positive");
+    }
+    auto all = configurations(base);
+    std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
+    for (const std::string& n : names)
+        if (!all.count(n)) {
+            std::string known;
+            for (const auto& [k, v] : all) known += " " + k;
+            throw UsageError("unknown configuration '" + n + "'; known:" + known);
+        }
+
+    std::vector<Row> rows;
+    for (const std::string& name : names) {
+        RenderSettings s = all[name];
+        s.spp = 1;
+        s.seed = 1;
+        double perSpp = render(scene, *sensor, s).seconds;  // calibration
+        for (double budget : budgets) {
+            s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
+            s.seed += 1;
+            RenderResult r = render(scene, *sensor, s);
+            Errors e = compare(r.film, *sensor, ref);
+            rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
+                            e.rmseAll * e.rmseAll * r.seconds});
+            std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
+                         r.seconds, e.rmseAll);
+        }
+    }
+
+    // Equal-error speed-up over volpath, per budget (MSE x time ratio).
+    std::map<double, double> volpathMseTime;
+    for (const Row& r : rows)
+        if (r.config == "volpath") volpathMseTime[r.budget] = r.mseTime;
+    std::ostringstream md, csv;
+    md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
+       << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
+    md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs volpath |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_volpath\n";
+    for (const Row& r : rows) {
+        double speedup = volpathMseTime.count(r.budget) ? volpathMseTime[r.budget] / r.mseTime : NAN;
+        char line[512];
+        std::snprintf(line, sizeof line, "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f",
+                      r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
+                      r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup);
+        md << "| " << line << " |\n";
+        std::string c = line;
+        for (char& ch : c)
+            if (ch == '|') ch = ',';
+        c.erase(std::remove(c.begin(), c.end(), ' '), c.end());
+        csv << c << "\n";
+    }
+    std::string prefix = args.value("--out").value_or("bench");
+    writeText(prefix + ".md", md.str());
+    writeText(prefix + ".csv", csv.str());
+    writeText(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
+    std::fputs(md.str().c_str(), stdout);
+    return 0;
+}
+
+}  // namespace pl
