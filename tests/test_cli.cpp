@@ -238,6 +238,31 @@ TEST(Cli, UsageErrorsExitWithTwo) {
     EXPECT_FALSE(s.anyOutput());
 }
 
+TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
+    TestScene s("bench");
+    fs::path scene = s.write();
+    fs::path ref = s.dir / "ref.exr";
+    CliRun r = printlight("bench " + scene.string() + " --make-reference " + ref.string() + " --spp 32", s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("RMS standard error"), std::string::npos) << r.out;
+    r = printlight("bench " + scene.string() + " --reference " + ref.string() +
+                       " --budgets 0.05,0.1 --configs volpath,printpt --out " + (s.dir / "b").string(),
+                   s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::string csv = readText(s.dir / "b.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;  // header + 2 configs x 2 budgets
+    EXPECT_NE(csv.find("volpath,0.05,"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",1.00\n"), std::string::npos) << csv;  // volpath against itself
+    EXPECT_TRUE(fs::exists(s.dir / "b.md"));
+    EXPECT_NE(readText(s.dir / "b.svg").find("<polyline"), std::string::npos);
+    // A reference of another scene is refused.
+    s.scene["sensor"] = {{"type", "orthographic"}, {"position", {1, 1, 5}}, {"look_at", {1, 1, 0}}, {"up", {0, 1, 0}},
+                         {"width_mm", 1.0}, {"resolution", {8, 8}}};
+    r = printlight("bench " + s.write().string() + " --reference " + ref.string(), s.dir);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("does not match"), std::string::npos) << r.err;
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);
