@@ -53,6 +53,11 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     q = p;
     q.printpt.branches = 16;
     c["printpt-k16"] = q;
+    q = p;
+    q.printpt.nee = true;
+    c["printpt-nee"] = q;
+    q.printpt.rrCap = 1.0f;
+    c["printpt-nee-rr1"] = q;
     return c;
 }
 
@@ -155,7 +160,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {});
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
     SceneDescription desc = parseScene(args.positional()[0]);
-    Scene scene = loadScene(desc);
+    Scene scene = loadScene(desc, true);
     std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};

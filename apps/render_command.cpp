@@ -75,7 +75,11 @@ int renderCommand(const std::vector<std::string>& argv) {
     for (const auto& o : outputs) refuseToOverwriteInputs(o, desc.inputFiles());
 
     bool quiet = args.has("--quiet");
-    Scene scene = loadScene(desc);
+    const RenderSettings& rs = desc.render;
+    Scene scene = loadScene(desc, rs.integrator == "printpt" && rs.printpt.nee);
+    if (rs.integrator == "printpt" && rs.printpt.nee && !scene.medium->hasSurfaceFields())
+        std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
+                     desc.labelsFile.string().c_str());
     std::unique_ptr<Sensor> sensor;
     try {
         sensor = makeSensor(desc.sensor, scene);

@@ -39,6 +39,27 @@ inline PhaseSample sampleHG(const Vec3f& dIn, float g, float u0, float u1) {
     return {dOut, p, p};
 }
 
+// von Mises-Fisher lobe around the unit vector mu with concentration kappa
+// (> 0): pdf(w) = kappa / (2 pi (1 - exp(-2 kappa))) exp(kappa (mu.w - 1)).
+inline float vmfPdf(const Vec3f& mu, float kappa, const Vec3f& w) {
+    return kappa / (2.0f * kPi * -std::expm1(-2.0f * kappa)) * std::exp(kappa * (dot(mu, w) - 1.0f));
+}
+
+struct DirectionSample {
+    Vec3f d;
+    float pdf;
+};
+
+// Inverts the cdf of mu.w in a numerically stable form (Jakob 2012).
+inline DirectionSample sampleVMF(const Vec3f& mu, float kappa, float u0, float u1) {
+    float w = 1.0f + std::log(u0 + (1.0f - u0) * std::exp(-2.0f * kappa)) / kappa;
+    w = std::clamp(w, -1.0f, 1.0f);
+    float s = std::sqrt(std::max(0.0f, 1.0f - w * w));
+    float phi = 2.0f * kPi * u1;
+    Vec3f d = normalize(Frame(mu).toWorld({s * std::cos(phi), s * std::sin(phi), w}));
+    return {d, vmfPdf(mu, kappa, d)};
+}
+
 // Exponential free-flight distance with rate sigma (1/mm): value and pdf.
 struct DistanceSample {
     float t;

@@ -48,6 +48,10 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     float beta = 1.0f, L = 0.0f;
     int64_t bounces = 0;
     stats.paths += 1;
+    const bool nee = options_.nee && scene_.medium->hasSurfaceFields();
+    // MIS weight of the next boundary hit's transmitted light: below 1 only
+    // for the first hit after a collision where next-event estimation ran.
+    float hitWeight = 1.0f;
 
     for (;;) {
         // Distance to the next real collision, then the boundary up to it.
@@ -82,9 +86,17 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             float q = std::min(options_.rrCap, beta);
             if (!(rng.uniform() < q)) return L;
             beta /= q;
+            Point3f x = ray.at(ff.t_mm);
+            Lobe lobe;
+            if (nee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);
             float u0 = rng.uniform(), u1 = rng.uniform();
             PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
-            ray = {ray.at(ff.t_mm), ps.dOut};
+            hitWeight = 1.0f;
+            if (lobe.kappa > 0) {
+                float pv = vmfPdf(lobe.axis, lobe.kappa, ps.dOut);
+                hitWeight = ps.pdf / (ps.pdf + pv);
+            }
+            ray = {x, ps.dOut};
             continue;
         }
 
@@ -96,17 +108,40 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         Vec3f n = -hit->ns;  // facing against the ray
         float F = fresnelDielectric(-dot(ray.d, n), etaOut);
         if (options_.fresnelWeighting) {
-            L += beta * (1.0f - F) * Le;  // the transmitted part leaves for good
+            L += hitWeight * beta * (1.0f - F) * Le;  // the transmitted part leaves for good
             beta *= F;
             if (beta <= 0.0f) return L;
         } else if (!(rng.uniform() < F)) {
-            return L + beta * Le;
+            return L + hitWeight * beta * Le;
         }
+        hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
         Vec3f r = reflect(ray.d, hit->ns);
         if (dot(r, hit->ng) >= 0) r = reflect(ray.d, hit->ng);
         if (dot(r, hit->ng) >= 0) r = -hit->ng;
         ray = spawnRay(hit->p, hit->ng, r, eps);
     }
+}
+
+float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,
+                         LabelMedium::Sampler& medium, Rng& rng, Lobe& lobe) const {
+    Vec3f normal;
+    float sdf_mm;
+    float u0 = rng.uniform(), u1 = rng.uniform();  // drawn always: streams stay aligned
+    if (!medium.nearestSurface(x, normal, sdf_mm)) return 0.0f;
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    // Deep below the surface in dense resin, light comes out close to the normal.
+    lobe.axis = normal;
+    lobe.kappa = std::clamp(lut.sigmaT_perMm[label] * std::max(0.0f, -sdf_mm), 1.0f, options_.neeMaxKappa);
+    DirectionSample ds = sampleVMF(lobe.axis, lobe.kappa, u0, u1);
+    // The boundary straight along the sampled direction, and what gets there.
+    auto hit = scene_.geometry->intersect({x, ds.d});
+    if (!hit || dot(ds.d, hit->ng) <= 0) return 0.0f;
+    float T = medium.transmittance({x, ds.d}, hit->t, channel);
+    if (T <= 0.0f) return 0.0f;
+    float F = fresnelDielectric(dot(ds.d, hit->ns), 1.0f / scene_.ior);
+    float phase = hgPhase(dot(dIn, ds.d), lut.g[label]);
+    float misWeight = ds.pdf / (ds.pdf + phase);  // balance heuristic
+    return misWeight * phase * T * (1.0f - F) * scene_.environment[channel] / ds.pdf;
 }
 
 }  // namespace pl

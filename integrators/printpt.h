@@ -9,8 +9,15 @@
 //    choosing one at random;
 //  - Russian roulette on the throughput with survival probability
 //    min(rrCap, throughput);
-//  - branching: k independent walks from the entry point, weight 1/k each.
-// Next-event estimation towards the surface is not implemented yet.
+//  - branching: k independent walks from the entry point, weight 1/k each;
+//  - next-event estimation towards the nearest surface (needs the `normal`
+//    and `sdf` grids of a prepared .vdb): at each collision a direction is
+//    drawn from a von Mises-Fisher lobe around the surface normal there, the
+//    transmittance to the boundary comes from regular tracking, and light
+//    leaving through it (times 1 - F) is combined with the phase-sampled
+//    path's first boundary hit by the balance heuristic. The lobe's
+//    concentration is the optical depth to the surface, clamped to
+//    [1, neeMaxKappa].
 #pragma once
 
 #include "integrators/integrator.h"
@@ -22,6 +29,8 @@ struct PrintPtOptions {
     bool fresnelWeighting = true;
     float rrCap = 0.99f;
     int branches = 4;
+    bool nee = false;
+    float neeMaxKappa = 50.0f;
 };
 
 class PrintPt : public Integrator {
@@ -35,6 +44,14 @@ private:
     // Radiance leaving the object back along -ray.d, for a ray that starts
     // inside, with throughput 1.
     float walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    // Light leaving the object straight from x towards the nearest surface,
+    // MIS-weighted against phase sampling. Sets the lobe for later weights.
+    struct Lobe {
+        Vec3f axis;
+        float kappa = 0;  // 0: no lobe (no NEE at this vertex)
+    };
+    float nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Sampler& medium,
+                    Rng& rng, Lobe& lobe) const;
 
     const Scene& scene_;
     PrintPtOptions options_;

@@ -247,6 +247,37 @@ void writeVdbGrids(const openvdb::GridPtrVec& grids, const std::filesystem::path
 
 }  // namespace
 
+std::shared_ptr<const VoxelFields> loadVoxelFields(const std::filesystem::path& file, const GridFrame& labels) {
+    if (lowerExtension(file) != ".vdb") return nullptr;
+    initializeVdb();
+    const std::string name = file.string();
+    openvdb::FloatGrid::Ptr sdf;
+    openvdb::Vec3SGrid::Ptr normal;
+    try {
+        openvdb::io::File f(name);
+        f.open(false);
+        if (f.hasGrid("sdf") && f.hasGrid("normal")) {
+            sdf = openvdb::GridBase::grid<openvdb::FloatGrid>(f.readGrid("sdf"));
+            normal = openvdb::GridBase::grid<openvdb::Vec3SGrid>(f.readGrid("normal"));
+        }
+        f.close();
+    } catch (const std::exception& e) {
+        std::string msg = e.what();
+        for (char& c : msg) if (c == '\n') c = ' ';
+        throw InputError(name, "cannot read VDB: " + msg);
+    }
+    if (!sdf || !normal) return nullptr;
+    for (const auto& g : {openvdb::GridBase::ConstPtr(sdf), openvdb::GridBase::ConstPtr(normal)}) {
+        openvdb::Vec3d vs = g->transform().voxelSize();
+        for (int a = 0; a < 3; ++a)
+            if (std::abs(vs[a] - labels.voxelSize_mm[a]) > 1e-6 * labels.voxelSize_mm[a])
+                throw InputError(name, "grid '" + g->getName() + "' does not share the voxels of 'labels'");
+    }
+    auto grids = std::unique_ptr<VoxelFields::Grids>(
+        new VoxelFields::Grids{sdf, normal, nullptr, sdf->getAccessor(), normal->getAccessor(), nullptr});
+    return std::make_shared<const VoxelFields>(std::move(grids));
+}
+
 LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> voidLabel) {
     const std::string name = file.string();
     if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");

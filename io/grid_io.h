@@ -26,6 +26,10 @@ constexpr uint64_t kMaxGridVoxels = uint64_t(1) << 36;
 // (the .vdb background; 5, air, for formats without one).
 LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> voidLabel);
 
+// The "sdf" and "normal" grids of a prepared .vdb, if it has them (null
+// otherwise, and for the other formats). They must share the labels' voxels.
+std::shared_ptr<const VoxelFields> loadVoxelFields(const std::filesystem::path& file, const GridFrame& labels);
+
 void writeLabelGridVdb(const LabelGrid& grid, const std::filesystem::path& file);
 // Labels plus the prepared fields: "sdf" (float, mm, negative inside),
 // "normal" (Vec3, unit outward gradient) and, if present, "colors" (Vec3,

@@ -94,7 +94,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry",
-                                            "branches", "rr_cap", "fresnel_weighting", "medium_first"});
+                                            "branches", "rr_cap", "fresnel_weighting", "medium_first", "nee"});
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
             json.fail("render.integrator", "must be volpath or printpt");
@@ -117,6 +117,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         if (!(pp.rrCap > 0 && pp.rrCap <= 1)) json.fail("render.rr_cap", "must be in (0, 1]");
         pp.fresnelWeighting = json.boolean(ren, "fresnel_weighting", "render", pp.fresnelWeighting);
         pp.mediumFirst = json.boolean(ren, "medium_first", "render", pp.mediumFirst);
+        pp.nee = json.boolean(ren, "nee", "render", pp.nee);
         if (r.integrator == "printpt" && r.volpath.reentry)
             json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
     }
@@ -132,7 +133,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     return d;
 }
 
-Scene loadScene(const SceneDescription& d) {
+Scene loadScene(const SceneDescription& d, bool withSurfaceFields) {
     Scene scene;
     scene.ior = d.ior;
     scene.environment = d.environment;
@@ -158,7 +159,9 @@ Scene loadScene(const SceneDescription& d) {
         if (mb.hi[a] <= glo[a] || mb.lo[a] >= ghi[a])
             throw InputError(d.meshFile.string(), "mesh does not overlap the label grid " + d.labelsFile.string());
 
+    GridFrame frame = grid.frame();
     scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
+    if (withSurfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));
     return scene;
 }
 

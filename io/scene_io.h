@@ -39,8 +39,9 @@ struct SceneDescription {
 // Parses and validates the JSON; reads no other file.
 SceneDescription parseScene(const std::filesystem::path& sceneFile);
 
-// Loads mesh, label grid and materials and checks they fit together.
-Scene loadScene(const SceneDescription& desc);
+// Loads mesh, label grid and materials and checks they fit together; with
+// withSurfaceFields also the sdf/normal grids of a prepared .vdb (for NEE).
+Scene loadScene(const SceneDescription& desc, bool withSurfaceFields = false);
 
 // Builds the sensor (for surface_voxels this enumerates the surface voxels).
 std::unique_ptr<Sensor> makeSensor(const SensorDescription& desc, const Scene& scene);

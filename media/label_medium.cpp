@@ -1,6 +1,7 @@
 #include "media/label_medium.h"
 
 #include "media/label_tree.h"
+#include "media/voxel_fields_vdb.h"
 
 namespace pl {
 
@@ -14,11 +15,27 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
 
 struct LabelMedium::Sampler::Impl {
     openvdb::tree::ValueAccessor<const LabelTreeType> accessor;
-    explicit Impl(const LabelTreeType& tree) : accessor(tree) {}
+    std::unique_ptr<openvdb::FloatGrid::ConstAccessor> sdf;
+    std::unique_ptr<openvdb::Vec3SGrid::ConstAccessor> normal;
+    Impl(const LabelTreeType& tree, const VoxelFields* fields) : accessor(tree) {
+        if (!fields) return;
+        sdf = std::make_unique<openvdb::FloatGrid::ConstAccessor>(fields->grids().sdf->getConstAccessor());
+        normal = std::make_unique<openvdb::Vec3SGrid::ConstAccessor>(fields->grids().normal->getConstAccessor());
+    }
 };
 
 LabelMedium::Sampler::Sampler(const LabelMedium& medium)
-    : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb)), medium_(medium) {}
+    : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium) {}
+
+bool LabelMedium::Sampler::nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm) {
+    if (!impl_->normal) return false;
+    openvdb::Coord c = toCoord(medium_.voxelAt(p));
+    openvdb::Vec3s n;
+    if (!impl_->normal->probeValue(c, n)) return false;  // outside the band
+    normal = {n.x(), n.y(), n.z()};
+    sdf_mm = impl_->sdf->getValue(c);
+    return true;
+}
 LabelMedium::Sampler::~Sampler() = default;
 
 Label LabelMedium::Sampler::labelAt(const Vec3i& v) {

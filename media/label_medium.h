@@ -11,6 +11,7 @@
 #include "media/majorant_grid.h"
 #include "media/materials.h"
 #include "media/trackers.h"
+#include "media/voxel_fields.h"
 
 namespace pl {
 
@@ -23,6 +24,10 @@ public:
     const MaterialTable& materials() const { return materials_; }
     const MajorantGrid& majorants() const { return majorants_; }
     const ChannelLut& lut(int channel) const { return luts_[channel]; }
+    // Distance and normal fields of a prepared grid (optional; next-event
+    // estimation towards the surface needs them).
+    void setSurfaceFields(std::shared_ptr<const VoxelFields> fields) { fields_ = std::move(fields); }
+    bool hasSurfaceFields() const { return fields_ != nullptr; }
 
     CellRay toCellRay(const Ray& r) const {
         return {{r.o.x * scale_.x + offset_.x, r.o.y * scale_.y + offset_.y,
@@ -43,6 +48,9 @@ public:
         // Exact transmittance by regular tracking along the ray up to tMax_mm.
         float transmittance(const Ray& ray, float tMax_mm, int channel);
         Label labelAt(const Vec3i& voxel);
+        // Outward normal of the nearest surface and signed distance (mm) at
+        // p, from the surface fields; false outside their band.
+        bool nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm);
 
     private:
         struct Impl;
@@ -56,6 +64,7 @@ private:
     std::array<ChannelLut, 3> luts_;
     MajorantGrid majorants_;
     Vec3f scale_, offset_;
+    std::shared_ptr<const VoxelFields> fields_;
 };
 
 }  // namespace pl

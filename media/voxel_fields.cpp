@@ -22,6 +22,7 @@ std::unique_ptr<VoxelFields::Grids> makeGrids(float background, bool withColors)
 
 VoxelFields::VoxelFields(float sdfBackground_mm, bool withColors)
     : grids_(makeGrids(sdfBackground_mm, withColors)) {}
+VoxelFields::VoxelFields(std::unique_ptr<Grids> grids) : grids_(std::move(grids)) {}
 VoxelFields::~VoxelFields() = default;
 VoxelFields::VoxelFields(VoxelFields&&) noexcept = default;
 

@@ -17,6 +17,7 @@ public:
     struct Grids;  // the OpenVDB grids (media/voxel_fields_vdb.h)
 
     explicit VoxelFields(float sdfBackground_mm, bool withColors);
+    explicit VoxelFields(std::unique_ptr<Grids> grids);  // read from a file (io/grid_io)
     ~VoxelFields();
     VoxelFields(VoxelFields&&) noexcept;
 

@@ -25,6 +25,30 @@ Scene mixedScene(float ior) {
                           t, ior);
 }
 
+// Exact distance and normal fields of the box [0, size]: nearest face.
+std::shared_ptr<const VoxelFields> boxFields(const LabelGrid& grid) {
+    auto fields = std::make_shared<VoxelFields>(1.0f, false);
+    const GridFrame& f = grid.frame();
+    Point3f hi = f.cornerMax_mm();
+    for (int z = 0; z < f.resolution.z; ++z)
+        for (int y = 0; y < f.resolution.y; ++y)
+            for (int x = 0; x < f.resolution.x; ++x) {
+                Point3f c = f.voxelCenter_mm({x, y, z});
+                float best = 1e30f;
+                Vec3f n;
+                for (int a = 0; a < 3; ++a) {
+                    Vec3f e(0, 0, 0);
+                    e[a] = 1;
+                    if (c[a] < best) { best = c[a]; n = -e; }
+                    if (hi[a] - c[a] < best) { best = hi[a] - c[a]; n = e; }
+                }
+                fields->setSdf({x, y, z}, -best);
+                fields->setNormal({x, y, z}, n);
+            }
+    fields->finish();
+    return fields;
+}
+
 struct Estimate {
     RGB mean, standardError;
 };
@@ -69,10 +93,13 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
             const char* name;
             PrintPtOptions options;
         };
-        const Config configs[] = {{"all on", {true, true, 0.99f, 4}},
-                                  {"geometry first", {false, true, 0.99f, 4}},
-                                  {"random Fresnel", {true, false, 0.99f, 4}},
-                                  {"no branching, low RR cap", {true, true, 0.6f, 1}}};
+        scene.medium->setSurfaceFields(boxFields(g));
+        const Config configs[] = {{"all on", {true, true, 0.99f, 4, false}},
+                                  {"geometry first", {false, true, 0.99f, 4, false}},
+                                  {"random Fresnel", {true, false, 0.99f, 4, false}},
+                                  {"no branching, low RR cap", {true, true, 0.6f, 1, false}},
+                                  {"next-event estimation", {true, true, 0.99f, 4, true}},
+                                  {"NEE, random Fresnel, geometry first", {false, false, 1.0f, 2, true, 5.0f}}};
         for (const Config& cfg : configs) {
             RenderSettings s = reference;
             s.integrator = "printpt";

@@ -62,6 +62,32 @@ TEST_P(HgSampling, PdfIntegratesToOneAndMatchesValue) {
 INSTANTIATE_TEST_SUITE_P(Anisotropies, HgSampling,
                          ::testing::Values(-0.99f, -0.4f, 0.0f, 0.4f, 0.9f, 0.99f));
 
+TEST(VmfSampling, ChiSquareAndPdfConsistency) {
+    const Vec3f mu = normalize(Vec3f(-0.2f, 0.7f, 0.4f));
+    Frame frame(mu);
+    for (float kappa : {0.5f, 4.0f, 50.0f}) {
+        const int muBins = 40, phiBins = 8, n = 300000;
+        Rng rng(5, uint64_t(kappa * 10));
+        std::vector<double> observed(muBins * phiBins, 0.0), expected(muBins * phiBins, 0.0);
+        for (int i = 0; i < n; ++i) {
+            DirectionSample s = sampleVMF(mu, kappa, rng.uniform(), rng.uniform());
+            ASSERT_NEAR(s.pdf, vmfPdf(mu, kappa, s.d), 1e-3f * s.pdf);
+            double c = std::clamp(double(dot(s.d, mu)), -1.0, 1.0);
+            double phi = std::atan2(double(dot(s.d, frame.t)), double(dot(s.d, frame.s))) + kPi;
+            int bm = std::min(muBins - 1, int((c + 1) / 2 * muBins));
+            int bp = std::min(phiBins - 1, int(phi / (2 * kPi) * phiBins));
+            observed[size_t(bm * phiBins + bp)] += 1;
+        }
+        // P(mu.w <= c) = (exp(kappa (c - 1)) - exp(-2 kappa)) / (1 - exp(-2 kappa)).
+        auto cdf = [&](double c) { return (std::exp(kappa * (c - 1)) - std::exp(-2.0 * kappa)) / -std::expm1(-2.0 * kappa); };
+        for (int bm = 0; bm < muBins; ++bm) {
+            double p = cdf(-1 + 2.0 * (bm + 1) / muBins) - cdf(-1 + 2.0 * bm / muBins);
+            for (int bp = 0; bp < phiBins; ++bp) expected[size_t(bm * phiBins + bp)] = n * p / phiBins;
+        }
+        EXPECT_LT(test::chiSquareZ(observed, expected), test::kChiSquareZLimit) << "kappa = " << kappa;
+    }
+}
+
 TEST(ExponentialSampling, MeanFreePath) {
     Rng rng(1, 2);
     const float sigma = 3.0f;
