@@ -93,7 +93,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
             hitWeight = 1.0f;
             if (lobe.kappa > 0) {
-                float pv = vmfPdf(lobe.axis, lobe.kappa, ps.dOut);
+                float pv = lobe.probability * vmfPdf(lobe.axis, lobe.kappa, ps.dOut);
                 hitWeight = ps.pdf / (ps.pdf + pv);
             }
             ray = {x, ps.dOut};
@@ -126,12 +126,15 @@ float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int ch
                          LabelMedium::Sampler& medium, Rng& rng, Lobe& lobe) const {
     Vec3f normal;
     float sdf_mm;
-    float u0 = rng.uniform(), u1 = rng.uniform();  // drawn always: streams stay aligned
+    float uPrune = rng.uniform(), u0 = rng.uniform(), u1 = rng.uniform();  // drawn always: streams stay aligned
     if (!medium.nearestSurface(x, normal, sdf_mm)) return 0.0f;
     const ChannelLut& lut = scene_.medium->lut(channel);
     // Deep below the surface in dense resin, light comes out close to the normal.
+    float depth = lut.sigmaT_perMm[label] * std::max(0.0f, -sdf_mm);
     lobe.axis = normal;
-    lobe.kappa = std::clamp(lut.sigmaT_perMm[label] * std::max(0.0f, -sdf_mm), 1.0f, options_.neeMaxKappa);
+    lobe.kappa = std::clamp(depth, 1.0f, options_.neeMaxKappa);
+    lobe.probability = std::clamp(options_.neePruneScale * std::exp(-depth), options_.neeMinProbability, 1.0f);
+    if (!(uPrune < lobe.probability)) return 0.0f;  // pruned; the phase path's weight knows
     DirectionSample ds = sampleVMF(lobe.axis, lobe.kappa, u0, u1);
     // The boundary straight along the sampled direction, and what gets there.
     auto hit = scene_.geometry->intersect({x, ds.d});
@@ -140,8 +143,11 @@ float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int ch
     if (T <= 0.0f) return 0.0f;
     float F = fresnelDielectric(dot(ds.d, hit->ns), 1.0f / scene_.ior);
     float phase = hgPhase(dot(dIn, ds.d), lut.g[label]);
-    float misWeight = ds.pdf / (ds.pdf + phase);  // balance heuristic
-    return misWeight * phase * T * (1.0f - F) * scene_.environment[channel] / ds.pdf;
+    // Balance heuristic over the two techniques; NEE's density includes the
+    // probability that it ran at all.
+    float pNee = lobe.probability * ds.pdf;
+    float misWeight = pNee / (pNee + phase);
+    return misWeight * phase * T * (1.0f - F) * scene_.environment[channel] / pNee;
 }
 
 }  // namespace pl

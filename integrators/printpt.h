@@ -17,7 +17,10 @@
 //    leaving through it (times 1 - F) is combined with the phase-sampled
 //    path's first boundary hit by the balance heuristic. The lobe's
 //    concentration is the optical depth to the surface, clamped to
-//    [1, neeMaxKappa].
+//    [1, neeMaxKappa]. Deep vertices, whose light is unlikely to get out,
+//    are pruned by Russian roulette: NEE runs with probability
+//    min(1, neePruneScale exp(-optical depth)) (at least neeMinProbability)
+//    and the MIS weights count that probability, so nothing is biased.
 #pragma once
 
 #include "integrators/integrator.h"
@@ -31,6 +34,8 @@ struct PrintPtOptions {
     int branches = 4;
     bool nee = false;
     float neeMaxKappa = 50.0f;
+    float neePruneScale = 4.0f;
+    float neeMinProbability = 0.05f;
 };
 
 class PrintPt : public Integrator {
@@ -48,7 +53,8 @@ private:
     // MIS-weighted against phase sampling. Sets the lobe for later weights.
     struct Lobe {
         Vec3f axis;
-        float kappa = 0;  // 0: no lobe (no NEE at this vertex)
+        float kappa = 0;        // 0: no lobe (no NEE at this vertex)
+        float probability = 1;  // chance that NEE ran here (pruning)
     };
     float nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Sampler& medium,
                     Rng& rng, Lobe& lobe) const;

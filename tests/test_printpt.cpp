@@ -99,7 +99,8 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
                                   {"random Fresnel", {true, false, 0.99f, 4, false}},
                                   {"no branching, low RR cap", {true, true, 0.6f, 1, false}},
                                   {"next-event estimation", {true, true, 0.99f, 4, true}},
-                                  {"NEE, random Fresnel, geometry first", {false, false, 1.0f, 2, true, 5.0f}}};
+                                  {"NEE, random Fresnel, geometry first", {false, false, 1.0f, 2, true, 5.0f}},
+                                  {"NEE, heavy pruning", {true, true, 0.99f, 4, true, 50.0f, 0.5f, 0.1f}}};
         for (const Config& cfg : configs) {
             RenderSettings s = reference;
             s.integrator = "printpt";
