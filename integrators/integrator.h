@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "core/fresnel.h"
 #include "core/rng.h"
 #include "integrators/scene.h"
 
@@ -25,6 +26,14 @@ struct PathStats {
 // Boundary events in a row, without scattering, after which a path counts
 // as trapped (lossless total internal reflection) and ends.
 constexpr int64_t kMaxBoundaryBounces = 10000000;
+
+// Mirror reflection about the shading normal, falling back to the geometric
+// normal when the shading normal would send the ray through the surface.
+inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
+    Vec3f r = reflect(d, hit.ns);
+    if (dot(r, hit.ng) * dot(d, hit.ng) > 0) r = reflect(d, hit.ng);
+    return r;
+}
 
 class Integrator {
 public:

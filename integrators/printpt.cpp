@@ -115,8 +115,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             return L + hitWeight * beta * Le;
         }
         hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
-        Vec3f r = reflect(ray.d, hit->ns);
-        if (dot(r, hit->ng) >= 0) r = reflect(ray.d, hit->ng);
+        Vec3f r = reflectOnSide(ray.d, *hit);
         if (dot(r, hit->ng) >= 0) r = -hit->ng;
         ray = spawnRay(hit->p, hit->ng, r, eps);
     }

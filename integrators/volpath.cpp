@@ -5,15 +5,6 @@
 
 namespace pl {
 
-namespace {
-// Reflection/refraction about the shading normal, falling back to the
-// geometric normal when the shading normal would send the ray to the wrong side.
-Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
-    Vec3f r = reflect(d, hit.ns);
-    if (dot(r, hit.ng) * dot(d, hit.ng) > 0) r = reflect(d, hit.ng);
-    return r;
-}
-}  // namespace
 
 float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
