@@ -5,7 +5,6 @@
 
 namespace pl {
 
-
 float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
