@@ -160,11 +160,22 @@ int benchCommand(const std::vector<std::string>& argv) {
     Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {});
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
     SceneDescription desc = parseScene(args.positional()[0]);
-    Scene scene = loadScene(desc, true);
-    std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};
     base.volpath.reentry = false;  // surface prediction: the estimators must agree
+    auto all = configurations(base);
+    std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
+    bool needFields = false;
+    for (const std::string& n : names) {
+        if (!all.count(n)) {
+            std::string known;
+            for (const auto& [k, v] : all) known += " " + k;
+            throw UsageError("unknown configuration '" + n + "'; known:" + known);
+        }
+        needFields = needFields || (all[n].integrator == "printpt" && all[n].printpt.nee);
+    }
+    Scene scene = loadScene(desc, needFields || base.printpt.nee);
+    std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
 
     if (auto refPath = args.value("--make-reference")) {
         // The reference: many samples of the trusted estimator (volpath by default).
@@ -208,14 +219,6 @@ int benchCommand(const std::vector<std::string>& argv) {
         }
         if (!(budgets.back() > 0)) throw UsageError("--budgets must be positive");
     }
-    auto all = configurations(base);
-    std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
-    for (const std::string& n : names)
-        if (!all.count(n)) {
-            std::string known;
-            for (const auto& [k, v] : all) known += " " + k;
-            throw UsageError("unknown configuration '" + n + "'; known:" + known);
-        }
 
     std::vector<Row> rows;
     for (const std::string& name : names) {
