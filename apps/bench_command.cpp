@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -100,16 +99,6 @@ Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref)
     e.rmseAll = std::sqrt((se[0] + se[1] + se[2]) / (3.0 * n));
     e.relMse = rel / (3.0 * n);
     return e;
-}
-
-void writeText(const std::filesystem::path& file, const std::string& text) {
-    OutputFile out(file);
-    {
-        std::ofstream os(out.tempPath());
-        os << text;
-        if (!os) throw InputError(file.string(), "write failed");
-    }
-    out.commit();
 }
 
 // Log-log plot of RMSE against time, one polyline per configuration.
@@ -262,9 +251,9 @@ int benchCommand(const std::vector<std::string>& argv) {
         csv << c << "\n";
     }
     std::string prefix = args.value("--out").value_or("bench");
-    writeText(prefix + ".md", md.str());
-    writeText(prefix + ".csv", csv.str());
-    writeText(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
+    writeTextFile(prefix + ".md", md.str());
+    writeTextFile(prefix + ".csv", csv.str());
+    writeTextFile(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
     std::fputs(md.str().c_str(), stdout);
     return 0;
 }

@@ -527,13 +527,7 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
         primitive["material"] = 0;
     }
     gltf["meshes"] = {{{"primitives", {primitive}}}};
-    OutputFile out(file);
-    {
-        std::ofstream os(out.tempPath());
-        os << gltf.dump(1) << '\n';
-        if (!os) throw InputError(file.string(), "write failed");
-    }
-    out.commit();
+    writeTextFile(file, gltf.dump(1) + "\n");
 }
 
 }  // namespace pl

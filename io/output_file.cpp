@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <fstream>
 #include <system_error>
 
 #include "io/input_error.h"
@@ -34,6 +35,16 @@ void OutputFile::commit() {
     std::filesystem::rename(temp_, final_, ec);
     if (ec) throw InputError(final_.string(), "cannot write output: " + ec.message());
     committed_ = true;
+}
+
+void writeTextFile(const std::filesystem::path& file, const std::string& text) {
+    OutputFile out(file);
+    {
+        std::ofstream os(out.tempPath());
+        os << text;
+        if (!os) throw InputError(file.string(), "write failed");
+    }
+    out.commit();
 }
 
 void refuseToOverwriteInputs(const std::filesystem::path& output,

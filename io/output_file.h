@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace pl {
@@ -23,6 +24,9 @@ private:
     std::filesystem::path final_, temp_;
     bool committed_ = false;
 };
+
+// Writes `text` to `file` through an OutputFile (never a partial file).
+void writeTextFile(const std::filesystem::path& file, const std::string& text);
 
 // Throws InputError if `output` names the same file as any of `inputs`.
 void refuseToOverwriteInputs(const std::filesystem::path& output,
