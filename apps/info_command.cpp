@@ -3,16 +3,9 @@
 
 #include "apps/arguments.h"
 #include "io/grid_io.h"
+#include "media/materials.h"
 
 namespace pl {
-
-namespace {
-// Label convention of the research code (Rittig et al. 2021).
-const char* conventionName(int label) {
-    static const char* names[] = {"cyan", "magenta", "yellow", "black", "white", "air (void)", "clear"};
-    return label >= 0 && label < 7 ? names[label] : "";
-}
-}  // namespace
 
 int infoCommand(const std::vector<std::string>& argv) {
     Arguments args(argv, {"--void-label"}, {});
@@ -39,7 +32,7 @@ int infoCommand(const std::vector<std::string>& argv) {
     auto hist = grid.histogram();
     for (int l = 0; l < 256; ++l)
         if (hist[size_t(l)])
-            std::printf("  %5d  %-12s %14llu %8.3f%%\n", l, conventionName(l),
+            std::printf("  %5d  %-12s %14llu %8.3f%%\n", l, researchLabelName(l),
                         (unsigned long long)hist[size_t(l)], 100.0 * double(hist[size_t(l)]) / double(n));
     double sparse = double(grid.memoryBytes());
     double dense = double(n) * 16.0;  // float albedo RGB + float density per voxel (Brecka table 3.2)

@@ -4,7 +4,6 @@
 // model, halftones them into material labels, and writes one .vdb.
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -32,20 +31,6 @@ Vec3f parseTriple(const std::string& option, const std::string& text) {
     if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof())
         throw UsageError(option + " takes three comma-separated numbers, e.g. 0.0423,0.0847,0.027");
     return v;
-}
-
-double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
-void writeScene(const std::filesystem::path& file, const nlohmann::json& scene) {
-    OutputFile out(file);
-    {
-        std::ofstream os(out.tempPath());
-        os << scene.dump(2) << '\n';
-        if (!os) throw InputError(file.string(), "write failed");
-    }
-    out.commit();
 }
 
 std::string relativeTo(const std::filesystem::path& target, const std::filesystem::path& fromDir) {
@@ -227,8 +212,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
         preview["render"]["spp"] = 16;
         preview["render"]["reentry"] = true;
         preview["output"]["path"] = "out/" + stem + "_preview";
-        writeScene(sceneOut->string() + "_surface.json", surface);
-        writeScene(sceneOut->string() + "_preview.json", preview);
+        writeTextFile(sceneOut->string() + "_surface.json", surface.dump(2) + "\n");
+        writeTextFile(sceneOut->string() + "_preview.json", preview.dump(2) + "\n");
     }
     double tWrite = secondsSince(t3);
 
@@ -243,9 +228,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
                 (unsigned long long)inside, (unsigned long long)members, fill.c_str(), surfaceVoxels,
                 (unsigned long long)shell, extrude_mm, (unsigned long long)band);
     std::printf("  labels:   ");
-    static const char* names[7] = {"cyan", "magenta", "yellow", "black", "white", "void", "clear"};
     for (int l = 0; l < 7; ++l)
-        if (hist[size_t(l)]) std::printf(" %s %llu", names[l], (unsigned long long)hist[size_t(l)]);
+        if (hist[size_t(l)]) std::printf(" %s %llu", researchLabelName(l), (unsigned long long)hist[size_t(l)]);
     std::printf("\n  memory:    labels tree %.2f MB, sdf+normal%s %.2f MB; dense float albedo+density %.1f MB (labels x%.1f smaller)\n",
                 grid.memoryBytes() / 1e6, keepColors ? "+colors" : "", fields.memoryBytes() / 1e6, dense / 1e6,
                 dense / double(grid.memoryBytes()));

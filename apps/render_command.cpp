@@ -38,10 +38,6 @@ std::string siRate(double v) {
     return buf;
 }
 
-double secondsSince(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 }  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {

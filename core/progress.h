@@ -9,6 +9,11 @@
 
 namespace pl {
 
+// Wall-clock seconds since t.
+inline double secondsSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
 class ProgressBar {
 public:
     ProgressBar(uint64_t total, std::string label, bool enabled);

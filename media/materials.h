@@ -18,6 +18,13 @@ struct Material {
     bool defined = false;
 };
 
+// Names of the label convention of the research code (Rittig et al. 2021):
+// 0 cyan, 1 magenta, 2 yellow, 3 black, 4 white, 5 air (void), 6 clear.
+inline const char* researchLabelName(int label) {
+    static const char* names[] = {"cyan", "magenta", "yellow", "black", "white", "air (void)", "clear"};
+    return label >= 0 && label < 7 ? names[label] : "";
+}
+
 struct MaterialTable {
     std::array<Material, 256> byLabel;
 };
