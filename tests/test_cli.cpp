@@ -20,25 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-    int exitCode;
-    std::string out, err;
-};
+using test::CliRun;
+using test::readText;
 
-std::string readText(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-CliRun printlight(const std::string& args, const fs::path& dir) {
-    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >" + (dir / "stdout.txt").string() +
-                      " 2>" + (dir / "stderr.txt").string();
-    int status = std::system(cmd.c_str());
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),
-            readText(dir / "stderr.txt")};
-}
+CliRun printlight(const std::string& args, const fs::path& dir) { return test::runPrintlight(args, dir); }
 
 void writeText(const fs::path& p, const std::string& s) { std::ofstream(p) << s; }
 

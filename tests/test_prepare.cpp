@@ -185,15 +185,13 @@ TEST(SurfaceColors, TexturedGltfRoundTripsToTheRightTexels) {
     }
 }
 
-int runPrintlight(const std::string& args, std::string& err) {
+// Exit code of a printlight run; its stderr goes to err.
+int prepareExit(const std::string& args, std::string& err) {
     auto dir = test::freshTempDir("prepare_cli_out");
-    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >/dev/null 2>" + (dir / "err.txt").string();
-    int status = std::system(cmd.c_str());
-    std::ifstream in(dir / "err.txt");
-    err.assign(std::istreambuf_iterator<char>(in), {});
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    test::CliRun r = test::runPrintlight(args, dir);
+    err = r.err;
+    return r.exitCode;
 }
-
 TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
     auto dir = test::freshTempDir("prepare_cli");
     // OBJ whose material names a texture that is not there.
@@ -206,17 +204,17 @@ TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
         obj << "f " << box.indices[3 * t] + 1 << ' ' << box.indices[3 * t + 1] + 1 << ' ' << box.indices[3 * t + 2] + 1 << '\n';
     obj.close();
     std::string err;
-    EXPECT_EQ(runPrintlight("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_EQ(prepareExit("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
     EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     // A texture file that is not an image.
     std::ofstream(dir / "missing.png") << "not a png";
-    EXPECT_EQ(runPrintlight("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_EQ(prepareExit("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
     EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
     // An open mesh.
     box.indices.resize(box.indices.size() - 3);
     writeObj(box, dir / "open.obj");
-    EXPECT_EQ(runPrintlight("prepare " + (dir / "open.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
+    EXPECT_EQ(prepareExit("prepare " + (dir / "open.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
     EXPECT_NE(err.find("not closed"), std::string::npos) << err;
     EXPECT_FALSE(std::filesystem::exists(dir / "out.vdb"));
 }
@@ -225,7 +223,7 @@ TEST(PrepareCli, WritesLabelsSdfAndNormalsThatReadBack) {
     auto dir = test::freshTempDir("prepare_ok");
     writeObj(test::boxMesh({0, 0, 0}, {2, 1.5f, 1}), dir / "box.obj");
     std::string err;
-    ASSERT_EQ(runPrintlight("prepare " + (dir / "box.obj").string() + " -o " + (dir / "box.vdb").string() +
+    ASSERT_EQ(prepareExit("prepare " + (dir / "box.obj").string() + " -o " + (dir / "box.vdb").string() +
                                 " --color 0.2,0.6,0.9 --extrude-mm 0.2 --keep-colors --quiet",
                             err),
               0)

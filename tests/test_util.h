@@ -2,10 +2,14 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <functional>
 #include <string>
 #include <vector>
@@ -110,5 +114,28 @@ inline std::filesystem::path freshTempDir(const std::string& name) {
 }
 
 inline std::filesystem::path sourceDir() { return PRINTLIGHT_SOURCE_DIR; }
+
+inline std::string readText(const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+#ifdef PRINTLIGHT_EXE
+struct CliRun {
+    int exitCode;
+    std::string out, err;
+};
+
+// Runs the printlight program with its output captured in files in dir.
+inline CliRun runPrintlight(const std::string& args, const std::filesystem::path& dir) {
+    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >" + (dir / "stdout.txt").string() +
+                      " 2>" + (dir / "stderr.txt").string();
+    int status = std::system(cmd.c_str());
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),
+            readText(dir / "stderr.txt")};
+}
+#endif
 
 }  // namespace pl::test
