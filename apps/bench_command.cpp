@@ -1,11 +1,17 @@
 // printlight bench: error against run time (DESIGN.md section 5).
 //   printlight bench SCENE.json --make-reference REF.exr [--spp N] [--integrator I]
 //   printlight bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs a,b,...] [--out PREFIX]
+//   printlight bench SCENE.json --self-variance [--budgets ...] [--configs ...] [--out PREFIX]
 // Each configuration renders at each time budget (seconds; the spp is chosen
 // from a 1-spp calibration run) and is compared with the reference: RMSE and
 // relative MSE over all pixels and channels, MSE x time (lower is better),
 // and the equal-error speed-up over volpath = (MSE x time)_volpath /
 // (MSE x time)_config. Writes PREFIX.md, PREFIX.csv and PREFIX.svg.
+// --self-variance needs no reference: the expected MSE of an unbiased
+// estimator is its variance, estimated per pixel from the samples
+// themselves (stderr^2, at least kMinSelfSpp samples). Cheap for large scenes;
+// it cannot see bias (the tests and the reference mode do) and it
+// underestimates heavy-tailed estimators at few samples.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -41,6 +47,9 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     q.printpt.mediumFirst = false;
     c["printpt-geometry-first"] = q;
     q = p;
+    q.printpt.clearance = false;
+    c["printpt-no-clearance"] = q;
+    q = p;
     q.printpt.fresnelWeighting = false;
     c["printpt-random-fresnel"] = q;
     q = p;
@@ -49,6 +58,14 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     q = p;
     q.printpt.rrCap = 1.0f;
     c["printpt-rr1"] = q;
+    for (float threshold : {0.5f, 0.2f, 0.05f}) {
+        q = p;
+        q.printpt.rrCap = 1.0f;
+        q.printpt.rrThreshold = threshold;
+        char name[48];
+        std::snprintf(name, sizeof name, "printpt-rr1-t%g", threshold);
+        c[name] = q;
+    }
     q = p;
     q.printpt.branches = 16;
     c["printpt-k16"] = q;
@@ -80,6 +97,25 @@ struct Errors {
     RGB rmse;
     double rmseAll, relMse;
 };
+
+constexpr uint32_t kMinSelfSpp = 8;
+
+// The film's own variance estimate as the expected squared error.
+Errors selfVariance(const Film& film) {
+    double se[3] = {0, 0, 0}, rel = 0;
+    size_t n = film.pixelCount();
+    for (size_t p = 0; p < n; ++p)
+        for (int c = 0; c < 3; ++c) {
+            double m = film.mean(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c);
+            se[c] += v;
+            rel += v / (m * m + 1e-3);
+        }
+    Errors e;
+    for (int c = 0; c < 3; ++c) e.rmse[c] = float(std::sqrt(se[c] / double(n)));
+    e.rmseAll = std::sqrt((se[0] + se[1] + se[2]) / (3.0 * n));
+    e.relMse = rel / (3.0 * n);
+    return e;
+}
 
 Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref) {
     double se[3] = {0, 0, 0}, rel = 0;
@@ -146,7 +182,7 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
 }  // namespace
 
 int benchCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {});
+    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {"--self-variance"});
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
     SceneDescription desc = parseScene(args.positional()[0]);
     RenderSettings base = desc.render;
@@ -188,16 +224,22 @@ int benchCommand(const std::vector<std::string>& argv) {
     }
 
     auto refPath = args.value("--reference");
-    if (!refPath) throw UsageError("bench needs --reference REF.exr (make one with --make-reference)");
-    RadianceImage ref = readExr(*refPath);
-    if (ref.width != sensor->imageWidth() || ref.height != sensor->imageHeight())
-        throw InputError(*refPath, "reference image size does not match the scene's sensor");
+    const bool self = args.has("--self-variance");
+    if (!refPath && !self)
+        throw UsageError("bench needs --reference REF.exr (make one with --make-reference) or --self-variance");
+    if (refPath && self) throw UsageError("bench takes --reference or --self-variance, not both");
+    RadianceImage ref;
     double refVar = 0;
-    size_t refN = 0;
-    for (size_t i = 0; i < ref.mean.size(); ++i)
-        if (ref.coverage[i] > 0)
-            for (int c = 0; c < 3; ++c, ++refN) refVar += double(ref.standardError[i][c]) * ref.standardError[i][c];
-    refVar /= double(std::max<size_t>(refN, 1));
+    if (refPath) {
+        ref = readExr(*refPath);
+        if (ref.width != sensor->imageWidth() || ref.height != sensor->imageHeight())
+            throw InputError(*refPath, "reference image size does not match the scene's sensor");
+        size_t refN = 0;
+        for (size_t i = 0; i < ref.mean.size(); ++i)
+            if (ref.coverage[i] > 0)
+                for (int c = 0; c < 3; ++c, ++refN) refVar += double(ref.standardError[i][c]) * ref.standardError[i][c];
+        refVar /= double(std::max<size_t>(refN, 1));
+    }
 
     std::vector<double> budgets;
     for (const std::string& b : splitList(args.value("--budgets").value_or("1,2,4,8"))) {
@@ -217,9 +259,10 @@ int benchCommand(const std::vector<std::string>& argv) {
         double perSpp = render(scene, *sensor, s).seconds;  // calibration
         for (double budget : budgets) {
             s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
+            if (self) s.spp = std::max(s.spp, kMinSelfSpp);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
-            Errors e = compare(r.film, *sensor, ref);
+            Errors e = self ? selfVariance(r.film) : compare(r.film, *sensor, ref);
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
@@ -232,8 +275,12 @@ int benchCommand(const std::vector<std::string>& argv) {
     for (const Row& r : rows)
         if (r.config == "volpath") volpathMseTime[r.budget] = r.mseTime;
     std::ostringstream md, csv;
-    md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
-       << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
+    if (self)
+        md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
+           << "variance estimate (stderr^2 per pixel, at least " << kMinSelfSpp << " spp).\n\n";
+    else
+        md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
+           << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
     md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs volpath |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
     csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_volpath\n";

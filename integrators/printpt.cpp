@@ -49,6 +49,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     int64_t bounces = 0;
     stats.paths += 1;
     const bool nee = options_.nee && scene_.medium->hasSurfaceFields();
+    const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
     // MIS weight of the next boundary hit's transmitted light: below 1 only
     // for the first hit after a collision where next-event estimation ran.
     float hitWeight = 1.0f;
@@ -59,7 +60,9 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         std::optional<SurfaceHit> hit;
         if (options_.mediumFirst) {
             ff = medium.sampleFreeFlight(ray, 1e30f, channel, rng);
-            hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
+            // A collision nearer than the boundary can be needs no query.
+            bool clear = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
+            if (!clear) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersect(ray);
             if (hit) ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);
@@ -83,9 +86,11 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             stats.scatterEvents += 1;
             bounces = 0;
             beta *= lut.albedo[ff.label];
-            float q = std::min(options_.rrCap, beta);
-            if (!(rng.uniform() < q)) return L;
-            beta /= q;
+            float q = std::min(options_.rrCap, beta / options_.rrThreshold);
+            if (q < 1.0f) {
+                if (!(rng.uniform() < q)) return L;
+                beta /= q;
+            }
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
             if (nee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);

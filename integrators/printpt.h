@@ -4,11 +4,15 @@
 //  - no re-entry: light that leaves the object is done (always on);
 //  - medium first: delta tracking runs before the boundary is looked for,
 //    and the boundary query only reaches as far as the sampled collision;
+//    with `clearance` it is skipped altogether when the collision is closer
+//    than the boundary can be (core/surface_clearance.h);
 //  - Fresnel weighting: at the entry and at inner boundary hits both the
 //    reflected and the transmitted part are kept as weights instead of
 //    choosing one at random;
 //  - Russian roulette on the throughput with survival probability
-//    min(rrCap, throughput);
+//    min(rrCap, throughput / rrThreshold) (no roulette while that is >= 1):
+//    a threshold of 1 is analog absorption; a lower one carries the
+//    albedo as a weight until the throughput falls below it;
 //  - branching: k independent walks from the entry point, weight 1/k each;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
@@ -36,6 +40,8 @@ struct PrintPtOptions {
     float neeMaxKappa = 50.0f;
     float neePruneScale = 4.0f;
     float neeMinProbability = 0.05f;
+    float rrThreshold = 1.0f;
+    bool clearance = true;
 };
 
 class PrintPt : public Integrator {

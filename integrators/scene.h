@@ -6,6 +6,7 @@
 
 #include "core/geometry.h"
 #include "core/rgb.h"
+#include "core/surface_clearance.h"
 #include "media/label_medium.h"
 
 namespace pl {
@@ -15,6 +16,8 @@ struct Scene {
     std::unique_ptr<LabelMedium> medium;
     RGB environment{1, 1, 1};  // constant radiance of the surroundings
     float ior = 1.5f;          // object / air
+    // Optional: lets printpt skip boundary queries deep inside (null: never skip).
+    std::unique_ptr<SurfaceClearance> clearance;
 };
 
 }  // namespace pl

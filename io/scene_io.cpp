@@ -94,7 +94,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry",
-                                            "branches", "rr_cap", "fresnel_weighting", "medium_first", "nee"});
+                                            "branches", "rr_cap", "rr_threshold", "fresnel_weighting", "medium_first", "clearance", "nee"});
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
             json.fail("render.integrator", "must be volpath or printpt");
@@ -115,8 +115,11 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         pp.branches = int(branches);
         pp.rrCap = float(json.number(ren, "rr_cap", "render", pp.rrCap));
         if (!(pp.rrCap > 0 && pp.rrCap <= 1)) json.fail("render.rr_cap", "must be in (0, 1]");
+        pp.rrThreshold = float(json.number(ren, "rr_threshold", "render", pp.rrThreshold));
+        if (!(pp.rrThreshold > 0 && pp.rrThreshold <= 1)) json.fail("render.rr_threshold", "must be in (0, 1]");
         pp.fresnelWeighting = json.boolean(ren, "fresnel_weighting", "render", pp.fresnelWeighting);
         pp.mediumFirst = json.boolean(ren, "medium_first", "render", pp.mediumFirst);
+        pp.clearance = json.boolean(ren, "clearance", "render", pp.clearance);
         pp.nee = json.boolean(ren, "nee", "render", pp.nee);
         if (r.integrator == "printpt" && r.volpath.reentry)
             json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
@@ -162,6 +165,7 @@ Scene loadScene(const SceneDescription& d, bool withSurfaceFields) {
     GridFrame frame = grid.frame();
     scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
     if (withSurfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));
+    scene.clearance = std::make_unique<SurfaceClearance>(*scene.geometry, frame);
     return scene;
 }
 

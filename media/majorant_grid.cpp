@@ -16,7 +16,8 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
 
     constexpr float inf = std::numeric_limits<float>::infinity();
     std::vector<Bounds> b(count);
-    for (Bounds& x : b) x = {{-inf, -inf, -inf}, {inf, inf, inf}};
+    constexpr int kUnset = -2;
+    for (Bounds& x : b) x = {{-inf, -inf, -inf}, {inf, inf, inf}, kUnset};
     std::vector<uint32_t> covered(count, 0);
     auto index = [&](int bx, int by, int bz) {
         return (size_t(bz - brickMin_.z) * r.y + (by - brickMin_.y)) * r.x + (bx - brickMin_.x);
@@ -28,6 +29,7 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
             b[i].minSigmaT[c] = std::min(b[i].minSigmaT[c], s);
         }
         covered[i] += n;
+        b[i].soleLabel = b[i].soleLabel == kUnset || b[i].soleLabel == int(l) ? int(l) : -1;
     };
 
     // Stored tiles and voxels.

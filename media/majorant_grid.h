@@ -25,6 +25,9 @@ public:
     const Vec3i& brickMax() const { return brickMax_; }
     float maxSigmaT(const Vec3i& brick, int channel) const { return at(brick).maxSigmaT[channel]; }
     float minSigmaT(const Vec3i& brick, int channel) const { return at(brick).minSigmaT[channel]; }
+    // The label of every voxel of the brick, or -1 if it holds several:
+    // trackers need no grid lookup in a one-label brick.
+    int soleLabel(const Vec3i& brick) const { return at(brick).soleLabel; }
     // The largest sigma_t anywhere, per channel.
     float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
 
@@ -36,6 +39,7 @@ private:
     struct Bounds {
         RGB maxSigmaT{0, 0, 0};
         RGB minSigmaT{0, 0, 0};
+        int soleLabel = -1;
     };
     const Bounds& at(const Vec3i& b) const {
         Vec3i r{brickMax_.x - brickMin_.x, brickMax_.y - brickMin_.y, 0};

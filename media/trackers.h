@@ -44,34 +44,68 @@ template <class LabelLookup>
 FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
                       const MajorantGrid& maj, const ChannelLut& lut, int channel,
                       LabelLookup&& labelAt, Rng& rng) {
-    float t0 = 0.0f, t1 = tMax_mm;
-    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, frame.indexMax(), t0, t1)) return {};
-    constexpr float b = 1.0f / MajorantGrid::kBrickSize;
-    GridDda bricks(ray.o * b, ray.d * b, t0, t1, maj.brickMin(), maj.brickMax());
-    DdaSegment seg;
-    while (bricks.next(seg)) {
-        // Zero majorant: nothing to collide with in this brick.
-        float sigmaMaj = maj.maxSigmaT(seg.cell, channel);
-        if (sigmaMaj <= 0.0f) continue;
+    const Vec3i fmax = frame.indexMax();
+    constexpr int kB = MajorantGrid::kBrickSize;
+    // Tentative collisions at the brick's majorant over [tStart, tEnd),
+    // accepted with sigma_t / majorant (always, in a uniform brick).
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) {
+        float sigmaMaj = maj.maxSigmaT(brick, channel);
+        if (sigmaMaj <= 0.0f) return false;  // nothing to collide with
+        const float invMaj = 1.0f / sigmaMaj;
+        const int sole = maj.soleLabel(brick);
+        if (sole >= 0) {
+            // One material: every tentative collision is real, no lookup.
+            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
+            out = {true, t, Label(sole)};
+            return true;
+        }
+        const bool uniform = sigmaMaj == maj.minSigmaT(brick, channel);
         // Voxels of this brick inside the frame: round-off must not leave it.
-        Vec3i lo{seg.cell.x << MajorantGrid::kBrickLog2, seg.cell.y << MajorantGrid::kBrickLog2,
-                 seg.cell.z << MajorantGrid::kBrickLog2};
-        Vec3i hi{lo.x + MajorantGrid::kBrickSize, lo.y + MajorantGrid::kBrickSize,
-                 lo.z + MajorantGrid::kBrickSize};
+        Vec3i lo{brick.x * kB, brick.y * kB, brick.z * kB};
+        Vec3i hi{std::min(lo.x + kB, fmax.x), std::min(lo.y + kB, fmax.y), std::min(lo.z + kB, fmax.z)};
         lo = {std::max(lo.x, frame.indexMin.x), std::max(lo.y, frame.indexMin.y),
               std::max(lo.z, frame.indexMin.z)};
-        Vec3i fmax = frame.indexMax();
-        hi = {std::min(hi.x, fmax.x), std::min(hi.y, fmax.y), std::min(hi.z, fmax.z)};
-        // Tentative collisions at rate sigmaMaj; accept with sigma_t / sigmaMaj.
-        float t = seg.t0;
+        float t = tStart;
         for (;;) {
-            t -= std::log1p(-rng.uniform()) / sigmaMaj;
-            if (t >= seg.t1) break;
+            // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
+            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
             Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
-            float sigmaT = lut.sigmaT_perMm[l];
-            if (rng.uniform() * sigmaMaj < sigmaT) return {true, t, l};
+            if (uniform || rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) {
+                out = {true, t, l};
+                return true;
+            }
         }
+    };
+    FreeFlight ff;
+    float tFrom = 0.0f;
+    if (ray.o.x >= frame.indexMin.x && ray.o.y >= frame.indexMin.y && ray.o.z >= frame.indexMin.z &&
+        ray.o.x < fmax.x && ray.o.y < fmax.y && ray.o.z < fmax.z) {
+        // Most free flights in dense resin start inside the grid and end in
+        // the brick they start in: track that brick first, with no clipping
+        // and no brick DDA. Its exit is where the brick (cut to the frame) ends.
+        Vec3i first = MajorantGrid::brickOf(clampToBox(ray.voxelAt(0.0f), frame.indexMin, fmax));
+        float tExit = tMax_mm;
+        for (int a = 0; a < 3; ++a) {
+            if (ray.d[a] > 0.0f)
+                tExit = std::min(tExit, (float(std::min((first[a] + 1) * kB, fmax[a])) - ray.o[a]) / ray.d[a]);
+            if (ray.d[a] < 0.0f)
+                tExit = std::min(tExit, (float(std::max(first[a] * kB, frame.indexMin[a])) - ray.o[a]) / ray.d[a]);
+        }
+        if (trackBrick(first, 0.0f, tExit, ff)) return ff;
+        if (tExit >= tMax_mm) return {};
+        tFrom = std::max(0.0f, tExit);
     }
+    // The rest brick by brick, inside the frame (free flights are
+    // memoryless: restarting at a brick's entry is exact).
+    float t0 = tFrom, t1 = tMax_mm;
+    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t1)) return {};
+    constexpr float b = 1.0f / kB;
+    GridDda bricks(ray.o * b, ray.d * b, t0, t1, maj.brickMin(), maj.brickMax());
+    DdaSegment seg;
+    while (bricks.next(seg))
+        if (trackBrick(seg.cell, seg.t0, seg.t1, ff)) return ff;
     return {};
 }
 

@@ -97,7 +97,7 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
         const Config configs[] = {{"all on", {true, true, 0.99f, 4, false}},
                                   {"geometry first", {false, true, 0.99f, 4, false}},
                                   {"random Fresnel", {true, false, 0.99f, 4, false}},
-                                  {"no branching, low RR cap", {true, true, 0.6f, 1, false}},
+                                  {"no branching, RR below a throughput of 0.2", {true, true, 1.0f, 1, false, 50.0f, 4.0f, 0.05f, 0.2f}},
                                   {"next-event estimation", {true, true, 0.99f, 4, true}},
                                   {"NEE, random Fresnel, geometry first", {false, false, 1.0f, 2, true, 5.0f}},
                                   {"NEE, heavy pruning", {true, true, 0.99f, 4, true, 50.0f, 0.5f, 0.1f}}};

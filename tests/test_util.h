@@ -76,6 +76,7 @@ inline Scene boxScene(const Vec3i& resolution, const Vec3f& voxel_mm,
     s.medium = std::make_unique<LabelMedium>(boxGrid(resolution, voxel_mm, labelOf), std::move(table));
     s.ior = ior;
     s.environment = environment;
+    s.clearance = std::make_unique<SurfaceClearance>(*s.geometry, s.medium->frame());
     return s;
 }
 

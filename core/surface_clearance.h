@@ -1,0 +1,46 @@
+// A lower bound of the distance from a point to the object's boundary: the
+// distance from the centre of its brick of 8^3 voxels to the boundary (one
+// Embree point query per brick at load) minus the distance from the point to
+// that centre (triangle inequality). printpt samples the medium first:
+// a collision closer to the ray's start than this bound cannot lie beyond the
+// boundary, so the boundary query is skipped (most collisions deep in the
+// resin need none).
+#pragma once
+
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/grid_frame.h"
+
+namespace pl {
+
+class SurfaceClearance {
+public:
+    static constexpr int kBrickLog2 = 3;
+
+    SurfaceClearance(const Geometry& geometry, const GridFrame& frame);
+
+    // A distance (mm) that the boundary is no closer than to p; 0 where
+    // the boundary may be close or p is outside the frame.
+    float at(const Point3f& p) const {
+        int b[3];
+        Vec3f fromCenter_mm;
+        for (int a = 0; a < 3; ++a) {
+            float cell = p[a] * scale_[a] + offset_[a];
+            if (!(cell >= 0.0f && cell < float(voxelCount_[a]))) return 0.0f;
+            b[a] = int(cell) >> kBrickLog2;
+            fromCenter_mm[a] = (cell - (float(b[a] << kBrickLog2) + 0.5f * (1 << kBrickLog2))) * voxel_mm_[a];
+        }
+        return centerDistance_mm_[(size_t(b[2]) * bricks_.y + b[1]) * bricks_.x + b[0]] - length(fromCenter_mm);
+    }
+    const Vec3i& bricks() const { return bricks_; }
+
+private:
+    Vec3i bricks_, voxelCount_;
+    Vec3f scale_, offset_;  // world -> voxels counted from the frame's corner
+    Vec3f voxel_mm_;
+    // Distance from each brick's centre to the boundary, less a round-off margin.
+    std::vector<float> centerDistance_mm_;
+};
+
+}  // namespace pl
