@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "apps/arguments.h"
@@ -77,12 +78,46 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     return c;
 }
 
-std::vector<std::string> splitList(const std::string& s) {
+std::vector<std::string> splitList(const std::string& s, char sep = ',') {
     std::vector<std::string> out;
     std::stringstream ss(s);
     std::string item;
-    while (std::getline(ss, item, ',')) out.push_back(item);
+    while (std::getline(ss, item, sep)) out.push_back(item);
     return out;
+}
+
+// A named configuration with printpt switches overridden after slashes,
+// e.g. "printpt/k=1/rr_threshold=0.2/nee=1". Keys are the scene file's
+// render keys; nullopt for an unknown name.
+std::optional<RenderSettings> parseConfiguration(const std::string& spec,
+                                                 const std::map<std::string, RenderSettings>& named) {
+    std::vector<std::string> parts = splitList(spec, '/');
+    if (parts.empty() || !named.count(parts[0])) return std::nullopt;
+    RenderSettings s = named.at(parts[0]);
+    for (size_t i = 1; i < parts.size(); ++i) {
+        size_t eq = parts[i].find('=');
+        if (eq == std::string::npos || s.integrator != "printpt")
+            throw UsageError("configuration '" + spec + "': overrides are key=value on a printpt configuration");
+        std::string key = parts[i].substr(0, eq);
+        double v = 0;
+        try {
+            v = std::stod(parts[i].substr(eq + 1));
+        } catch (const std::exception&) {
+            throw UsageError("configuration '" + spec + "': " + key + " needs a number");
+        }
+        PrintPtOptions& o = s.printpt;
+        if (key == "branches" || key == "k") o.branches = std::max(1, int(v));
+        else if (key == "rr_cap") o.rrCap = float(v);
+        else if (key == "rr_threshold") o.rrThreshold = float(v);
+        else if (key == "nee") o.nee = v != 0;
+        else if (key == "medium_first") o.mediumFirst = v != 0;
+        else if (key == "fresnel_weighting") o.fresnelWeighting = v != 0;
+        else if (key == "clearance") o.clearance = v != 0;
+        else throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
+        if (!(o.rrCap > 0 && o.rrCap <= 1 && o.rrThreshold > 0 && o.rrThreshold <= 1))
+            throw UsageError("configuration '" + spec + "': rr_cap and rr_threshold must be in (0, 1]");
+    }
+    return s;
 }
 
 struct Row {
@@ -190,14 +225,17 @@ int benchCommand(const std::vector<std::string>& argv) {
     base.volpath.reentry = false;  // surface prediction: the estimators must agree
     auto all = configurations(base);
     std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
+    std::map<std::string, RenderSettings> chosen;
     bool needFields = false;
     for (const std::string& n : names) {
-        if (!all.count(n)) {
+        auto s = parseConfiguration(n, all);
+        if (!s) {
             std::string known;
             for (const auto& [k, v] : all) known += " " + k;
-            throw UsageError("unknown configuration '" + n + "'; known:" + known);
+            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
         }
-        needFields = needFields || (all[n].integrator == "printpt" && all[n].printpt.nee);
+        chosen[n] = *s;
+        needFields = needFields || (s->integrator == "printpt" && s->printpt.nee);
     }
     Scene scene = loadScene(desc, needFields || base.printpt.nee);
     std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
@@ -253,7 +291,7 @@ int benchCommand(const std::vector<std::string>& argv) {
 
     std::vector<Row> rows;
     for (const std::string& name : names) {
-        RenderSettings s = all[name];
+        RenderSettings s = chosen[name];
         s.spp = 1;
         s.seed = 1;
         double perSpp = render(scene, *sensor, s).seconds;  // calibration

@@ -1,6 +1,6 @@
 // A lower bound of the distance from a point to the object's boundary: the
-// distance from the centre of its brick of 8^3 voxels to the boundary (one
-// Embree point query per brick at load) minus the distance from the point to
+// distance from the centre of its block of 4^3 voxels to the boundary (one
+// Embree point query per block at load) minus the distance from the point to
 // that centre (triangle inequality). printpt samples the medium first:
 // a collision closer to the ray's start than this bound cannot lie beyond the
 // boundary, so the boundary query is skipped (most collisions deep in the
@@ -16,7 +16,7 @@ namespace pl {
 
 class SurfaceClearance {
 public:
-    static constexpr int kBrickLog2 = 3;
+    static constexpr int kBrickLog2 = 2;
 
     SurfaceClearance(const Geometry& geometry, const GridFrame& frame);
 
