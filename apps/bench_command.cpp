@@ -54,6 +54,7 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-k16", [](PrintPtOptions& o) { o.branches = 16; });
     variant("printpt-geometry-first", [](PrintPtOptions& o) { o.mediumFirst = false; });
     variant("printpt-no-clearance", [](PrintPtOptions& o) { o.clearance = false; });
+    variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
     return c;
@@ -94,6 +95,8 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
         else if (key == "medium_first") o.mediumFirst = v != 0;
         else if (key == "fresnel_weighting") o.fresnelWeighting = v != 0;
         else if (key == "clearance") o.clearance = v != 0;
+        else if (key == "ball_walks") o.ballWalks = v != 0;
+        else if (key == "ball_min_mfp") o.ballMinMfp = float(v);
         else throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
         if (!(o.rrCap > 0 && o.rrCap <= 1 && o.rrThreshold > 0 && o.rrThreshold <= 1))
             throw UsageError("configuration '" + spec + "': rr_cap and rr_threshold must be in (0, 1]");

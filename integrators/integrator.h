@@ -13,11 +13,13 @@ namespace pl {
 struct PathStats {
     uint64_t paths = 0;
     uint64_t scatterEvents = 0;  // real collisions that scattered
+    uint64_t ballEvents = 0;     // of which sampled inside printpt's homogeneous balls
     uint64_t leaks = 0;          // rays inside that found no boundary (mesh not closed)
     uint64_t trapped = 0;        // paths ended after kMaxBoundaryBounces without scattering
     void operator+=(const PathStats& o) {
         paths += o.paths;
         scatterEvents += o.scatterEvents;
+        ballEvents += o.ballEvents;
         leaks += o.leaks;
         trapped += o.trapped;
     }

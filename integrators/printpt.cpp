@@ -2,6 +2,7 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "media/ball_walk.h"
 
 namespace pl {
 
@@ -42,6 +43,8 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     // The walk is compiled once per combination of the switches it tests
     // in its loop; the scene picks one here and the loop pays for no branch.
     options_.nee = options_.nee && scene_.medium->hasSurfaceFields();
+    Vec3f voxel = scene_.medium->frame().voxelSize_mm;
+    minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
     const bool n = options_.nee, m = options_.mediumFirst, f = options_.fresnelWeighting;
     walk_ = n ? (m ? (f ? &PrintPt::walk<true, true, true> : &PrintPt::walk<true, true, false>)
                    : (f ? &PrintPt::walk<true, false, true> : &PrintPt::walk<true, false, false>))
@@ -61,11 +64,24 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     int64_t bounces = 0;
     stats.paths += 1;
     const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
+    const bool balls = options_.ballWalks && scene_.clearance && !kNee;
     // MIS weight of the next boundary hit's transmitted light: below 1 only
     // for the first hit after a collision where next-event estimation ran.
     float hitWeight = 1.0f;
 
     for (;;) {
+        if (balls) {
+            // Deep in one material: walk to the edge of a ball that holds
+            // nothing else, without grid lookups or boundary queries.
+            Label label;
+            float radius_mm = homogeneousBall(ray.o, label);
+            if (radius_mm * lut.sigmaT_perMm[label] >= options_.ballMinMfp) {
+                if (!walkInBall(ray, radius_mm, label, lut, beta, rng, stats)) return L;
+                bounces = 0;
+                hitWeight = 1.0f;
+                continue;
+            }
+        }
         // Distance to the next real collision, then the boundary up to it.
         FreeFlight ff;
         std::optional<SurfaceHit> hit;
@@ -97,11 +113,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             stats.scatterEvents += 1;
             bounces = 0;
             beta *= lut.albedo[ff.label];
-            float q = std::min(options_.rrCap, beta / options_.rrThreshold);
-            if (q < 1.0f) {
-                if (!(rng.uniform() < q)) return L;
-                beta /= q;
-            }
+            if (!survivesRoulette(beta, rng)) return L;
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
             if constexpr (kNee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);
@@ -135,6 +147,36 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         if (dot(r, hit->ng) >= 0) r = -hit->ng;
         ray = spawnRay(hit->p, hit->ng, r, eps);
     }
+}
+
+bool PrintPt::survivesRoulette(float& beta, Rng& rng) const {
+    float q = std::min(options_.rrCap, beta / options_.rrThreshold);
+    if (q >= 1.0f) return true;
+    if (!(rng.uniform() < q)) return false;
+    beta /= q;
+    return true;
+}
+
+float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
+    const LabelMedium& medium = *scene_.medium;
+    Vec3i voxel = medium.voxelAt(p);
+    if (!medium.frame().contains(voxel)) return 0.0f;
+    const MajorantGrid& maj = medium.majorants();
+    Vec3i brick = MajorantGrid::brickOf(voxel);
+    int sole = maj.soleLabel(brick), reach = maj.uniformReach(brick);
+    if (sole < 0 || reach == 0) return 0.0f;
+    label = Label(sole);
+    return std::min(float(reach) * minBrickEdge_mm_, scene_.clearance->at(p));
+}
+
+bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, const ChannelLut& lut, float& beta, Rng& rng,
+                         PathStats& stats) const {
+    BallWalk b = pl::walkInBall(ray.d, radius_mm, lut.sigmaT_perMm[label], lut.albedo[label], lut.g[label], beta,
+                                [&](float& x) { return survivesRoulette(x, rng); }, rng);
+    stats.scatterEvents += uint64_t(b.collisions);
+    stats.ballEvents += uint64_t(b.collisions);
+    ray = {ray.o + b.exit, b.direction};
+    return b.alive;
 }
 
 float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,

@@ -13,6 +13,12 @@
 //    min(rrCap, throughput / rrThreshold) (no roulette while that is >= 1):
 //    a threshold of 1 is analog absorption; a lower one carries the
 //    albedo as a weight until the throughput falls below it;
+//  - ball walks: deep inside one material (a ball around the walk's
+//    position that the surface clearance and the bricks' uniform reach show
+//    to hold one label only) collisions are sampled in a plain homogeneous
+//    loop, without grid lookups or boundary queries, until a free flight
+//    would leave the ball; tracking restarts where it crosses the sphere
+//    (exact: free flights are memoryless);
 //  - branching: k independent walks from the entry point, weight 1/k each;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
@@ -42,6 +48,8 @@ struct PrintPtOptions {
     float neeMinProbability = 0.05f;
     float rrThreshold = 0.25f;  // measured best on the test set (docs/performance.md)
     bool clearance = true;
+    bool ballWalks = true;
+    float ballMinMfp = 4.0f;  // smallest ball worth it, in mean free paths
 };
 
 class PrintPt : public Integrator {
@@ -56,8 +64,20 @@ private:
     // inside, with throughput 1.
     template <bool kNee, bool kMediumFirst, bool kFresnelWeighting>
     float walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    // Russian roulette on the throughput; false: the walk ends.
+    bool survivesRoulette(float& beta, Rng& rng) const;
+    // Radius (mm) of a ball around p, inside the object, holding only one
+    // label (set in label); 0 where there is none.
+    float homogeneousBall(const Point3f& p, Label& label) const;
+    // Random walk from ray.o in the ball of radius_mm around it, which
+    // holds only label: collisions without lookups or boundary queries,
+    // until a free flight would leave the ball; ray becomes the point where
+    // it crosses the sphere, with its direction. False if the walk ended.
+    bool walkInBall(Ray& ray, float radius_mm, Label label, const ChannelLut& lut, float& beta, Rng& rng,
+                    PathStats& stats) const;
     using WalkFunction = float (PrintPt::*)(Ray, int, LabelMedium::Sampler&, Rng&, PathStats&) const;
     WalkFunction walk_;
+    float minBrickEdge_mm_ = 0;
     // Light leaving the object straight from x towards the nearest surface,
     // MIS-weighted against phase sampling. Sets the lobe for later weights.
     struct Lobe {

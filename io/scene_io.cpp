@@ -94,7 +94,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry",
-                                            "branches", "rr_cap", "rr_threshold", "fresnel_weighting", "medium_first", "clearance", "nee"});
+                                            "branches", "rr_cap", "rr_threshold", "fresnel_weighting", "medium_first", "clearance", "ball_walks", "nee"});
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
             json.fail("render.integrator", "must be volpath or printpt");
@@ -120,6 +120,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         pp.fresnelWeighting = json.boolean(ren, "fresnel_weighting", "render", pp.fresnelWeighting);
         pp.mediumFirst = json.boolean(ren, "medium_first", "render", pp.mediumFirst);
         pp.clearance = json.boolean(ren, "clearance", "render", pp.clearance);
+        pp.ballWalks = json.boolean(ren, "ball_walks", "render", pp.ballWalks);
         pp.nee = json.boolean(ren, "nee", "render", pp.nee);
         if (r.integrator == "printpt" && r.volpath.reentry)
             json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");

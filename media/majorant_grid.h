@@ -28,9 +28,18 @@ public:
     // The label of every voxel of the brick, or -1 if it holds several:
     // trackers need no grid lookup in a one-label brick.
     int soleLabel(const Vec3i& brick) const { return at(brick).soleLabel; }
+    // How many bricks around this one (Chebyshev distance) hold only its
+    // label: 0 for a mixed brick or one next to another label or the frame's
+    // edge. A ball around a point of the brick with radius up to
+    // uniformReach x the smallest brick edge holds only that label.
+    int uniformReach(const Vec3i& brick) const { return reach_[brickIndex(brick)]; }
     // The largest sigma_t anywhere, per channel.
     float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
 
+    size_t brickIndex(const Vec3i& b) const {
+        return (size_t(b.z - brickMin_.z) * (brickMax_.y - brickMin_.y) + (b.y - brickMin_.y)) *
+                   (brickMax_.x - brickMin_.x) + (b.x - brickMin_.x);
+    }
     static Vec3i brickOf(const Vec3i& voxel) {
         return {voxel.x >> kBrickLog2, voxel.y >> kBrickLog2, voxel.z >> kBrickLog2};
     }
@@ -41,13 +50,11 @@ private:
         RGB minSigmaT{0, 0, 0};
         int soleLabel = -1;
     };
-    const Bounds& at(const Vec3i& b) const {
-        Vec3i r{brickMax_.x - brickMin_.x, brickMax_.y - brickMin_.y, 0};
-        return bricks_[(size_t(b.z - brickMin_.z) * r.y + (b.y - brickMin_.y)) * r.x +
-                       (b.x - brickMin_.x)];
-    }
+    const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
+    void computeUniformReach();
     Vec3i brickMin_, brickMax_;
     std::vector<Bounds> bricks_;
+    std::vector<uint8_t> reach_;
     RGB globalMax_{0, 0, 0};
 };
 

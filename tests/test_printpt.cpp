@@ -114,6 +114,43 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
     }
 }
 
+// A white block with a coloured shell: deep inside, printpt's ball walks
+// take over; the result must still agree with volpath, and with printpt
+// without them.
+TEST(PrintPt, BallWalksAgreeWithVolpath) {
+    MaterialTable t = test::tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
+                                     {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
+                                     {4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
+    const Vec3i res{96, 80, 128};  // 12 x 10 x 16 bricks
+    Scene scene = test::boxScene(res, {0.1f, 0.1f, 0.1f},
+                                 [&](const Vec3i& v) {
+                                     int d = std::min({v.x, v.y, v.z, res.x - 1 - v.x, res.y - 1 - v.y, res.z - 1 - v.z});
+                                     if (d >= 2) return Label(4);
+                                     return Label((v.x + 2 * v.y + 3 * v.z) % 3 == 0 ? 0 : (v.x + v.z) % 2 ? 1 : 4);
+                                 },
+                                 t, 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    std::vector<SurfaceVoxel> some;  // every 8th surface voxel is enough
+    for (const SurfaceVoxel& v : g.surfaceVoxels())
+        if ((v.voxel.x + v.voxel.y + v.voxel.z) % 8 == 0) some.push_back(v);
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), some);
+    RenderSettings reference;
+    reference.spp = 4;
+    reference.seed = 21;
+    Estimate volpath = renderMean(scene, sensor, reference);
+
+    RenderSettings s = reference;
+    s.integrator = "printpt";
+    s.spp = 2;
+    s.seed = 22;
+    s.printpt.ballMinMfp = 1.0f;  // balls wherever they fit
+    RenderResult balls = render(scene, sensor, s);
+    EXPECT_GT(balls.stats.ballEvents, balls.stats.scatterEvents / 20) << "ball walks must carry part of the load";
+    expectAgreement(volpath, renderMean(scene, sensor, s), "ball walks");
+    s.printpt.ballWalks = false;
+    expectAgreement(volpath, renderMean(scene, sensor, s), "no ball walks");
+}
+
 TEST(PrintPt, WhiteFurnaceWithinStatisticalError) {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {1, 1, 1}, {0.4f, 0.4f, 0.4f})},
                                      {6, material({0.5f, 0.5f, 0.5f}, {1, 1, 1})}});

@@ -3,6 +3,7 @@
 // piecewise-constant label media, through the OpenVDB-backed sampler.
 #include <gtest/gtest.h>
 
+#include "media/ball_walk.h"
 #include "media/label_medium.h"
 #include "test_util.h"
 
@@ -153,6 +154,80 @@ TEST(Majorants, ClearAndVoidBricksGetTheirOwnBounds) {
     EXPECT_EQ(maj.maxSigmaT({2, 3, 1}, 0), 1.5f);
     EXPECT_EQ(maj.minSigmaT({2, 3, 1}, 0), 1.5f);
     EXPECT_EQ(maj.globalMaxSigmaT(1), 10.0f);
+}
+
+}  // namespace
+}  // namespace pl
+
+namespace pl {
+namespace {
+
+// printpt's ball walk against the walk that delta tracking through the
+// label grid takes in the same homogeneous material, stopped where its path
+// first crosses the sphere: collisions, weight and exit state must have the
+// same distribution (means within 4 combined standard errors), and the exit
+// must lie on the sphere.
+TEST(BallWalk, MatchesDeltaTrackingStoppedAtTheSphere) {
+    const float sigma = 6.0f, albedo = 0.97f, g = 0.4f, radius = 0.9f;
+    MaterialTable t;
+    t.byLabel[4] = material({sigma, sigma, sigma}, {albedo, albedo, albedo}, {g, g, g});
+    // Anisotropic voxels; the ball sits in the middle of a 3 mm block.
+    LabelMedium medium(test::boxGrid({60, 30, 100}, {0.05f, 0.1f, 0.03f}, [](const Vec3i&) { return Label(4); }), t);
+    LabelMedium::Sampler sampler(medium);
+    const Point3f center{1.5f, 1.5f, 1.5f};
+    const Vec3f w0 = normalize(Vec3f(0.3f, -0.5f, 0.8f));
+    auto noRoulette = [](float&) { return true; };
+
+    struct Moments {
+        double n = 0, sum[4] = {0, 0, 0, 0}, sq[4] = {0, 0, 0, 0};
+        void add(double collisions, double weight, double forward, double radialCos) {
+            double v[4] = {collisions, weight, forward, radialCos};
+            for (int i = 0; i < 4; ++i) sum[i] += v[i], sq[i] += v[i] * v[i];
+            n += 1;
+        }
+        double mean(int i) const { return sum[i] / n; }
+        double var(int i) const { return (sq[i] / n - mean(i) * mean(i)) / (n - 1); }
+    } ball, tracked;
+    const int kWalks = 20000;
+    Rng rng(5, 1);
+    for (int i = 0; i < kWalks; ++i) {
+        float beta = 1.0f;
+        BallWalk b = walkInBall(w0, radius, sigma, albedo, g, beta, noRoulette, rng);
+        ASSERT_NEAR(length(b.exit), radius, 1e-4f);
+        ball.add(double(b.collisions), beta, dot(b.exit, w0), dot(b.exit, b.direction) / radius);
+    }
+    for (int i = 0; i < kWalks; ++i) {
+        // The same walk by delta tracking through the grid: follow each free
+        // flight; the first one whose path leaves the ball ends it there.
+        Point3f p = center;
+        Vec3f w = w0;
+        double beta = 1.0;
+        int64_t collisions = 0;
+        for (;;) {
+            FreeFlight ff = sampler.sampleFreeFlight({p, w}, 10.0f, 0, rng);
+            float tCollision = ff.scattered ? ff.t_mm : 1e30f;  // left the block: beyond the sphere
+            Vec3f rel = p - center;
+            float b = dot(rel, w), c = dot(rel, rel) - radius * radius;
+            float s = -b + std::sqrt(std::max(0.0f, b * b - c));  // distance to the sphere
+            if (tCollision >= s) {
+                Vec3f exit = rel + w * s;
+                tracked.add(double(collisions), beta, dot(exit, w0), dot(exit, w) / radius);
+                break;
+            }
+            p = p + w * tCollision;
+            collisions += 1;
+            beta *= albedo;
+            float u0 = rng.uniform(), u1 = rng.uniform();
+            w = sampleHG(w, g, u0, u1).dOut;
+        }
+    }
+    const char* names[4] = {"collisions", "weight", "forward displacement", "exit cosine"};
+    for (int i = 0; i < 4; ++i) {
+        double se = std::sqrt(ball.var(i) + tracked.var(i));
+        EXPECT_GT(se, 0.0);
+        EXPECT_NEAR(ball.mean(i), tracked.mean(i), 4.0 * se) << names[i];
+    }
+    EXPECT_GT(ball.mean(0), 5.0);  // the ball is many mean free paths wide
 }
 
 }  // namespace
