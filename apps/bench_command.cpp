@@ -117,7 +117,7 @@ struct Errors {
     double rmseAll, relMse;
 };
 
-constexpr uint32_t kMinSelfSpp = 8;
+constexpr uint32_t kMinSelfSpp = 4;
 
 // The film's own variance estimate as the expected squared error.
 Errors selfVariance(const Film& film) {

@@ -122,12 +122,16 @@ int renderCommand(const std::vector<std::string>& argv) {
     // Summary: wall time, samples, paths per second, scattering events per second.
     uint64_t samples = uint64_t(sensor->pixelCount()) * desc.render.spp * desc.render.channels.size();
     double s = result.seconds;
+    char balls[64] = "";
+    if (result.stats.ballEvents)
+        std::snprintf(balls, sizeof balls, " (%.0f %% in ball walks)",
+                      100.0 * double(result.stats.ballEvents) / double(result.stats.scatterEvents));
     std::printf("render %.2f s wall (%.2f s total), %s samples (%s px x %u spp x %zu ch), "
-                "%s paths/s, %s scattering events/s, %d thread(s) -> %s\n",
+                "%s paths/s, %s scattering events/s%s, %d thread(s) -> %s\n",
                 s, secondsSince(t0), withThousands(samples).c_str(),
                 withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), threads,
+                siRate(result.stats.scatterEvents / s).c_str(), balls, threads,
                 (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
     return 0;
 }

@@ -69,8 +69,9 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     // for the first hit after a collision where next-event estimation ran.
     float hitWeight = 1.0f;
 
+    bool deep = false;  // the last collision needed no boundary query: worth looking for a ball
     for (;;) {
-        if (balls) {
+        if (balls && deep) {
             // Deep in one material: walk to the edge of a ball that holds
             // nothing else, without grid lookups or boundary queries.
             Label label;
@@ -89,6 +90,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             ff = medium.sampleFreeFlight(ray, 1e30f, channel, rng);
             // A collision nearer than the boundary can be needs no query.
             bool clear = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
+            deep = clear;
             if (!clear) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersect(ray);

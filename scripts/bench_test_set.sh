@@ -1,7 +1,7 @@
 #!/bin/sh
 # Equal-error speed-up of printpt over volpath on every test-set scene,
 # surface-voxel sensor, with each render's own variance as its expected
-# squared error (printlight bench --self-variance; 8 spp each).
+# squared error (printlight bench --self-variance; 4 spp each).
 # Needs scripts/prepare_test_set.sh first. Writes out/bench/testset_*.{md,csv,svg}.
 # Usage: scripts/bench_test_set.sh [CONFIGS] [MODELS...]
 set -eu
