@@ -1,7 +1,7 @@
 // printlight bench: error against run time (DESIGN.md section 5).
 //   printlight bench SCENE.json --make-reference REF.exr [--spp N] [--integrator I]
 //   printlight bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs a,b,...] [--out PREFIX]
-//   printlight bench SCENE.json --self-variance [--budgets ...] [--configs ...] [--out PREFIX]
+//   printlight bench SCENE.json --self-variance [--budgets ...|--spp N] [--configs ...] [--out PREFIX]
 // Each configuration renders at each time budget (seconds; the spp is chosen
 // from a 1-spp calibration run) and is compared with the reference: RMSE and
 // relative MSE over all pixels and channels, MSE x time (lower is better),
@@ -273,15 +273,20 @@ int benchCommand(const std::vector<std::string>& argv) {
         if (!(budgets.back() > 0)) throw UsageError("--budgets must be positive");
     }
 
+    // Self-variance: at least kMinSelfSpp samples, or exactly --spp (>= 2:
+    // the sample variance is unbiased from two samples on).
+    const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
     std::vector<Row> rows;
     for (const std::string& name : names) {
         RenderSettings s = chosen[name];
         s.spp = 1;
         s.seed = 1;
-        double perSpp = render(scene, *sensor, s).seconds;  // calibration
+        const bool fixedSpp = self && args.has("--spp");
+        double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s).seconds;  // calibration
         for (double budget : budgets) {
             s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
-            if (self) s.spp = std::max(s.spp, kMinSelfSpp);
+            if (fixedSpp) s.spp = selfSpp;
+            if (self) s.spp = std::max(s.spp, selfSpp);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
             Errors e = self ? selfVariance(r.film) : compare(r.film, *sensor, ref);

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/arguments.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
@@ -137,6 +138,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     uint64_t inside = 0, members = 0, shell = 0, band = 0;
     ProgressBar progress(uint64_t(r.z), "prepare", !quiet && ProgressBar::stderrIsTerminal());
     for (int z = 0; z < r.z; ++z) {
+        throwIfInterrupted();
         std::vector<VoxelRow> rows = vox.slice(z);
         std::fill(active.begin(), active.end(), 0);
         for (int y = 0; y < r.y; ++y)

@@ -3,6 +3,7 @@
 #include <cstring>
 
 #include "apps/commands.h"
+#include "core/interrupt.h"
 #include "io/input_error.h"
 
 namespace {
@@ -30,12 +31,16 @@ int main(int argc, char** argv) {
     }
     std::string command = argv[1];
     std::vector<std::string> args(argv + 2, argv + argc);
+    pl::installInterruptHandler();
     try {
         if (command == "render") return pl::renderCommand(args);
         if (command == "info") return pl::infoCommand(args);
         if (command == "prepare") return pl::prepareCommand(args);
         if (command == "bench") return pl::benchCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
+    } catch (const pl::Interrupted&) {
+        std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");
+        return 130;
     } catch (const pl::UsageError& e) {
         std::fprintf(stderr, "printlight: %s\n%s", e.what(), kUsage);
         return 2;

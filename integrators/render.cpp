@@ -3,6 +3,7 @@
 #include <chrono>
 #include <mutex>
 
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/scheduler.h"
 
@@ -26,6 +27,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
             PathStats stats;
             for (size_t p = begin; p < end; ++p) {
                 for (uint32_t s = 0; s < settings.spp; ++s) {
+                    if (interruptRequested()) return;  // Ctrl-C: the film is discarded below
                     // The path's random stream depends only on (seed, pixel, sample, channel).
                     Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
                     float u0 = rng.uniform(), u1 = rng.uniform();
@@ -38,6 +40,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
             result.stats += stats;
         });
     }
+    throwIfInterrupted();
     progress.finish();
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

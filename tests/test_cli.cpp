@@ -3,6 +3,8 @@
 // input writes EXR, PNG and VDB and a summary line; --threads does not
 // change a single bit of the result.
 #include <gtest/gtest.h>
+
+#include <chrono>
 #include <sys/wait.h>
 
 #include <fstream>
@@ -100,6 +102,22 @@ TEST(Cli, SameSeedSameBitsWhateverTheThreadCount) {
         ASSERT_EQ(a.mean[i], b.mean[i]) << i;
         ASSERT_EQ(a.standardError[i], b.standardError[i]) << i;
     }
+}
+
+TEST(Cli, CtrlCStopsPromptlyWritesNothingAndExits130) {
+    TestScene s("interrupt");
+    s.scene["render"]["spp"] = 1000000;  // hours of work
+    std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(PRINTLIGHT_EXE) + " render " +
+                      s.write().string() + " -o " + s.out().string() + " >" + (s.dir / "stdout.txt").string() +
+                      " 2>" + (s.dir / "stderr.txt").string();
+    auto t0 = std::chrono::steady_clock::now();
+    int status = std::system(cmd.c_str());
+    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130) << test::readText(s.dir / "stderr.txt");
+    EXPECT_LT(seconds, 10.0) << "the render did not stop promptly";
+    EXPECT_NE(test::readText(s.dir / "stderr.txt").find("interrupted"), std::string::npos);
+    EXPECT_FALSE(s.anyOutput());
 }
 
 TEST(Cli, MalformedSceneJson) {
