@@ -284,6 +284,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         const bool fixedSpp = self && args.has("--spp");
         double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s).seconds;  // calibration
         for (double budget : budgets) {
+            if (fixedSpp && budget != budgets.front()) break;  // one render: the spp is fixed
             s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
             if (fixedSpp) s.spp = selfSpp;
             if (self) s.spp = std::max(s.spp, selfSpp);
