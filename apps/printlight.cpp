@@ -19,6 +19,7 @@ const char* kUsage =
     "         voxelises a textured mesh into labels, sdf and normal grids\n"
     "  bench SCENE.json --make-reference REF.exr [--spp N] [--integrator volpath|printpt]\n"
     "  bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs volpath,printpt,...] [--out PREFIX]\n"
+    "  bench SCENE.json --self-variance [--budgets 1,2,4,8 | --spp N] [--configs ...] [--out PREFIX]\n"
     "         error against run time of estimator configurations (writes PREFIX.md/.csv/.svg)\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";

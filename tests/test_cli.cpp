@@ -266,6 +266,28 @@ TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     EXPECT_NE(r.err.find("does not match"), std::string::npos) << r.err;
 }
 
+TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
+    TestScene s("bench_self");
+    fs::path scene = s.write();
+    CliRun r = printlight("bench " + scene.string() + " --self-variance --spp 3 --configs volpath,printpt/k=1/rr_threshold=0.5 --out " +
+                              (s.dir / "b").string(),
+                          s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::string csv = readText(s.dir / "b.csv");
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;  // header + one row per configuration
+    EXPECT_NE(csv.find("volpath,1,3,"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("printpt/k=1/rr_threshold=0.5,1,3,"), std::string::npos) << csv;
+    EXPECT_NE(readText(s.dir / "b.md").find("own variance estimate"), std::string::npos);
+    // Overrides are checked.
+    r = printlight("bench " + scene.string() + " --self-variance --configs printpt/bogus=1", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("unknown key 'bogus'"), std::string::npos) << r.err;
+    r = printlight("bench " + scene.string() + " --self-variance --configs printpt/rr_threshold=0", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    r = printlight("bench " + scene.string() + " --self-variance --reference x.exr", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);
