@@ -51,7 +51,7 @@ TEST(MajorantGrid, UniformReachMatchesBruteForce) {
     const Vec3i res{150, 97, 121};
     LabelGrid grid = test::boxGrid(res, {0.05f, 0.05f, 0.05f}, [](const Vec3i& v) {
         if (v.x >= 100 && v.x < 120) return Label(1);
-        uint32_t h = uint32_t(v.x * 73856093) ^ uint32_t(v.y * 19349663) ^ uint32_t(v.z * 83492791);
+        uint32_t h = uint32_t(v.x) * 73856093u ^ uint32_t(v.y) * 19349663u ^ uint32_t(v.z) * 83492791u;
         return Label(h % 100000 == 0 ? 3 : 4);
     });
     std::array<ChannelLut, 3> luts;
