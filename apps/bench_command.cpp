@@ -210,7 +210,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     auto all = configurations(base);
     std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
     std::map<std::string, RenderSettings> chosen;
-    bool needFields = false;
+    SceneNeeds needs;
     for (const std::string& n : names) {
         auto s = parseConfiguration(n, all);
         if (!s) {
@@ -219,29 +219,32 @@ int benchCommand(const std::vector<std::string>& argv) {
             throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
         }
         chosen[n] = *s;
-        needFields = needFields || (s->integrator == "printpt" && s->printpt.nee);
+        needs |= SceneNeeds::of(*s);
     }
-    Scene scene = loadScene(desc, needFields || base.printpt.nee);
+    // The reference: many samples of the trusted estimator (volpath by default).
+    RenderSettings reference = base;
+    reference.integrator = args.value("--integrator").value_or("volpath");
+    auto makeRefPath = args.value("--make-reference");
+    if (makeRefPath) needs |= SceneNeeds::of(reference);
+    Scene scene = loadScene(desc, needs);
     std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
 
-    if (auto refPath = args.value("--make-reference")) {
-        // The reference: many samples of the trusted estimator (volpath by default).
-        RenderSettings s = base;
-        s.integrator = args.value("--integrator").value_or("volpath");
+    if (makeRefPath) {
+        RenderSettings s = reference;
         s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
         s.seed = 0x5eed;
         s.showProgress = ProgressBar::stderrIsTerminal();
-        refuseToOverwriteInputs(*refPath, desc.inputFiles());
+        refuseToOverwriteInputs(*makeRefPath, desc.inputFiles());
         RenderResult r = render(scene, *sensor, s);
         RadianceImage im = filmToImage(r.film, *sensor);
         im.metadata = {{"reference_spp", std::to_string(s.spp)}, {"integrator", s.integrator}};
-        writeExr(im, *refPath);
+        writeExr(im, *makeRefPath);
         double var = 0;
         size_t n = 0;
         for (size_t p = 0; p < r.film.pixelCount(); ++p)
             for (int c = 0; c < 3; ++c, ++n) var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
         std::printf("reference %s: %s, %u spp, %.1f s; its own RMS standard error per pixel %.3g\n",
-                    refPath->c_str(), s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
+                    makeRefPath->c_str(), s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
         return 0;
     }
 

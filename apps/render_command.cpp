@@ -72,7 +72,7 @@ int renderCommand(const std::vector<std::string>& argv) {
 
     bool quiet = args.has("--quiet");
     const RenderSettings& rs = desc.render;
-    Scene scene = loadScene(desc, rs.integrator == "printpt" && rs.printpt.nee);
+    Scene scene = loadScene(desc, SceneNeeds::of(rs));
     if (rs.integrator == "printpt" && rs.printpt.nee && !scene.medium->hasSurfaceFields())
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());

@@ -137,7 +137,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     return d;
 }
 
-Scene loadScene(const SceneDescription& d, bool withSurfaceFields) {
+Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     Scene scene;
     scene.ior = d.ior;
     scene.environment = d.environment;
@@ -165,8 +165,8 @@ Scene loadScene(const SceneDescription& d, bool withSurfaceFields) {
 
     GridFrame frame = grid.frame();
     scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
-    if (withSurfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));
-    scene.clearance = std::make_unique<SurfaceClearance>(*scene.geometry, frame);
+    if (needs.surfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));
+    if (needs.clearance) scene.clearance = std::make_unique<SurfaceClearance>(*scene.geometry, frame);
     return scene;
 }
 
