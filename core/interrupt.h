@@ -1,4 +1,4 @@
-// Ctrl-C (SIGINT) and SIGTERM: long jobs stop at the next pixel, write
+// Ctrl-C (SIGINT) and SIGTERM: long jobs stop at the next sample, write
 // nothing under the output name and exit with 130. A second signal ends the
 // process at once.
 #pragma once

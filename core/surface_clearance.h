@@ -16,7 +16,7 @@ namespace pl {
 
 class SurfaceClearance {
 public:
-    static constexpr int kBrickLog2 = 2;
+    static constexpr int kBlockLog2 = 2;
 
     SurfaceClearance(const Geometry& geometry, const GridFrame& frame);
 
@@ -28,18 +28,18 @@ public:
         for (int a = 0; a < 3; ++a) {
             float cell = p[a] * scale_[a] + offset_[a];
             if (!(cell >= 0.0f && cell < float(voxelCount_[a]))) return 0.0f;
-            b[a] = int(cell) >> kBrickLog2;
-            fromCenter_mm[a] = (cell - (float(b[a] << kBrickLog2) + 0.5f * (1 << kBrickLog2))) * voxel_mm_[a];
+            b[a] = int(cell) >> kBlockLog2;
+            fromCenter_mm[a] = (cell - (float(b[a] << kBlockLog2) + 0.5f * (1 << kBlockLog2))) * voxel_mm_[a];
         }
-        return centerDistance_mm_[(size_t(b[2]) * bricks_.y + b[1]) * bricks_.x + b[0]] - length(fromCenter_mm);
+        return centerDistance_mm_[blockIndex(b[0], b[1], b[2])] - length(fromCenter_mm);
     }
-    const Vec3i& bricks() const { return bricks_; }
 
 private:
-    Vec3i bricks_, voxelCount_;
+    size_t blockIndex(int x, int y, int z) const { return (size_t(z) * blocks_.y + y) * blocks_.x + x; }
+    Vec3i blocks_, voxelCount_;
     Vec3f scale_, offset_;  // world -> voxels counted from the frame's corner
     Vec3f voxel_mm_;
-    // Distance from each brick's centre to the boundary, less a round-off margin.
+    // Distance from each block's centre to the boundary, less a round-off margin.
     std::vector<float> centerDistance_mm_;
 };
 

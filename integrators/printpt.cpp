@@ -89,9 +89,8 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         if constexpr (kMediumFirst) {
             ff = medium.sampleFreeFlight(ray, 1e30f, channel, rng);
             // A collision nearer than the boundary can be needs no query.
-            bool clear = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
-            deep = clear;
-            if (!clear) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
+            deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
+            if (!deep) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersect(ray);
             if (hit) ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);

@@ -19,9 +19,6 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
     constexpr int kUnset = -2;
     for (Bounds& x : b) x = {{-inf, -inf, -inf}, {inf, inf, inf}, kUnset};
     std::vector<uint32_t> covered(count, 0);
-    auto index = [&](int bx, int by, int bz) {
-        return (size_t(bz - brickMin_.z) * r.y + (by - brickMin_.y)) * r.x + (bx - brickMin_.x);
-    };
     auto include = [&](size_t i, Label l, uint32_t n) {
         for (int c = 0; c < 3; ++c) {
             float s = luts[c].sigmaT_perMm[l];
@@ -46,7 +43,7 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
                         int e = std::min(hi[a], ((bc[a] + 1) << kBrickLog2) - 1);
                         n *= uint64_t(e - s + 1);
                     }
-                    include(index(bx, by, bz), l, uint32_t(n));
+                    include(brickIndex({bx, by, bz}), l, uint32_t(n));
                 }
     });
 
@@ -61,7 +58,7 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
                     int e = std::min(vmaxIncl[a], ((bc[a] + 1) << kBrickLog2) - 1);
                     n *= uint64_t(e - s + 1);
                 }
-                size_t i = index(bx, by, bz);
+                size_t i = brickIndex({bx, by, bz});
                 if (covered[i] < n) include(i, grid.voidLabel(), 0);
                 for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], b[i].maxSigmaT[c]);
             }
