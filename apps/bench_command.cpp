@@ -227,7 +227,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     auto makeRefPath = args.value("--make-reference");
     if (makeRefPath) needs |= SceneNeeds::of(reference);
     Scene scene = loadScene(desc, needs);
-    std::unique_ptr<Sensor> sensor = makeSensor(desc.sensor, scene);
+    std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
 
     if (makeRefPath) {
         RenderSettings s = reference;

@@ -10,6 +10,7 @@ int renderCommand(const std::vector<std::string>& args);
 int infoCommand(const std::vector<std::string>& args);
 int prepareCommand(const std::vector<std::string>& args);
 int benchCommand(const std::vector<std::string>& args);
+int batchCommand(const std::vector<std::string>& args);
 
 // Thrown for bad command-line usage (exit code 2).
 struct UsageError : std::exception {

@@ -21,6 +21,10 @@ const char* kUsage =
     "  bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs volpath,printpt,...] [--out PREFIX]\n"
     "  bench SCENE.json --self-variance [--budgets 1,2,4,8 | --spp N] [--configs ...] [--out PREFIX]\n"
     "         error against run time of estimator configurations (writes PREFIX.md/.csv/.svg)\n"
+    "  batch MANIFEST.json -o DIR [--compare STORED_DIR] [--threads N] [--seed-offset N]\n"
+    "        [--max-outlier-fraction F] [--quiet]\n"
+    "         renders every scene of a manifest; with --compare, checks each result against a stored\n"
+    "         one (bit-identical for the same code and seed, else a per-pixel z-test); exit 1 on failure\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }
@@ -38,6 +42,7 @@ int main(int argc, char** argv) {
         if (command == "info") return pl::infoCommand(args);
         if (command == "prepare") return pl::prepareCommand(args);
         if (command == "bench") return pl::benchCommand(args);
+        if (command == "batch") return pl::batchCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::Interrupted&) {
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");

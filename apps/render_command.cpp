@@ -76,14 +76,7 @@ int renderCommand(const std::vector<std::string>& argv) {
     if (rs.integrator == "printpt" && rs.printpt.nee && !scene.medium->hasSurfaceFields())
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());
-    std::unique_ptr<Sensor> sensor;
-    try {
-        sensor = makeSensor(desc.sensor, scene);
-    } catch (const InputError&) {
-        throw;
-    } catch (const std::runtime_error& e) {
-        throw InputError(desc.labelsFile.string(), e.what());
-    }
+    std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
     double setupSeconds = secondsSince(t0);
     const GridFrame& f = scene.medium->frame();
     if (!quiet)

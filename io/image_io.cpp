@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/input_error.h"
@@ -43,6 +44,31 @@ RadianceImage filmToImage(const Film& film, const Sensor& sensor) {
         im.coverage[size_t(i)] = 1.0f;
     }
     return im;
+}
+
+RadianceImage filmToPixelImage(const Film& film, int width) {
+    RadianceImage im;
+    size_t n = film.pixelCount();
+    im.width = int(std::max<size_t>(1, std::min<size_t>(n, size_t(width))));
+    im.height = int(std::max<size_t>(1, (n + size_t(im.width) - 1) / size_t(im.width)));
+    size_t slots = size_t(im.width) * im.height;
+    im.mean.assign(slots, RGB{0, 0, 0});
+    im.standardError.assign(slots, RGB{0, 0, 0});
+    im.coverage.assign(slots, 0.0f);
+    for (size_t p = 0; p < n; ++p) {
+        im.mean[p] = film.meanRGB(p);
+        im.standardError[p] = film.standardErrorRGB(p);
+        im.coverage[p] = 1.0f;
+    }
+    return im;
+}
+
+PixelResults pixelResultsOf(const RadianceImage& image, size_t pixelCount) {
+    PixelResults r;
+    pixelCount = std::min(pixelCount, image.mean.size());
+    r.mean.assign(image.mean.begin(), image.mean.begin() + pixelCount);
+    r.standardError.assign(image.standardError.begin(), image.standardError.begin() + pixelCount);
+    return r;
 }
 
 void writeExr(const RadianceImage& image, const std::filesystem::path& file) {
@@ -99,6 +125,11 @@ RadianceImage readExr(const std::filesystem::path& file) {
         im.mean[i] = {px[ch[0]], px[ch[1]], px[ch[2]]};
         im.coverage[i] = px[ch[3]];
         im.standardError[i] = {px[ch[4]], px[ch[5]], px[ch[6]]};
+    }
+    for (const OIIO::ParamValue& attr : spec.extra_attribs) {
+        std::string name = attr.name().string();
+        if (name.rfind("printlight:", 0) == 0 && attr.type() == OIIO::TypeDesc::STRING)
+            im.metadata.emplace_back(name.substr(11), attr.get_string());
     }
     return im;
 }

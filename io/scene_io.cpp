@@ -170,13 +170,18 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     return scene;
 }
 
-std::unique_ptr<Sensor> makeSensor(const SensorDescription& s, const Scene& scene) {
+std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene) {
+    const SensorDescription& s = desc.sensor;
     if (s.type == "perspective")
         return std::make_unique<PerspectiveSensor>(s.pose, s.fovY_deg, s.width, s.height);
     if (s.type == "orthographic")
         return std::make_unique<OrthographicSensor>(s.pose, s.viewWidth_mm, s.width, s.height);
     const LabelGrid& grid = scene.medium->grid();
-    return std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
+    try {
+        return std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
+    } catch (const std::runtime_error& e) {  // mesh and grid do not match
+        throw InputError(desc.labelsFile.string(), e.what());
+    }
 }
 
 }  // namespace pl

@@ -59,7 +59,7 @@ struct SceneNeeds {
 Scene loadScene(const SceneDescription& desc, SceneNeeds needs = {});
 
 // Builds the sensor (for surface_voxels this enumerates the surface voxels).
-std::unique_ptr<Sensor> makeSensor(const SensorDescription& desc, const Scene& scene);
+std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene);
 
 // Parses "r", "g", "b" or "rgb".
 std::optional<std::vector<int>> parseChannels(const std::string& s);

@@ -288,6 +288,58 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_EQ(r.exitCode, 2);
 }
 
+// The shipped regression manifest: a rerun (other thread count) is bit for
+// bit the stored result, another seed passes the statistical comparison, and
+// a changed scene (3 % brighter surroundings) is reported as a regression.
+TEST(Cli, BatchRegressionRendersOfTheBundledScenes) {
+    fs::path dir = test::freshTempDir("cli_batch");
+    std::string manifest = (test::sourceDir() / "data/batch/regression.json").string();
+    CliRun r = printlight("batch " + manifest + " -o " + (dir / "stored").string() + " --quiet", dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    for (const char* name : {"cube10_greek_surface_printpt_g", "cube10_greek_preview_volpath", "cube10_white_preview_volpath"})
+        EXPECT_TRUE(fs::exists(dir / "stored" / (std::string(name) + ".exr"))) << name;
+    EXPECT_TRUE(fs::exists(dir / "stored" / "batch.csv"));
+
+    r = printlight("batch " + manifest + " -o " + (dir / "rerun").string() + " --compare " + (dir / "stored").string() +
+                       " --threads 1 --quiet", dir);
+    EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_EQ(test::countOf(r.out, "compare (exact): bit-identical -> pass"), 3) << r.out;
+
+    r = printlight("batch " + manifest + " -o " + (dir / "seed").string() + " --compare " + (dir / "stored").string() +
+                       " --seed-offset 1000 --quiet", dir);
+    EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_EQ(test::countOf(r.out, "compare (statistical): "), 3) << r.out;
+    EXPECT_NE(readText(dir / "seed" / "batch.csv").find(",statistical,"), std::string::npos);
+
+    // The preview scene with brighter surroundings, under the stored name.
+    nlohmann::json scene = nlohmann::json::parse(readText(test::sourceDir() / "data/scenes/cube10_greek_preview.json"));
+    for (const char* key : {"mesh", "labels", "materials"})
+        scene["object"][key] = (test::sourceDir() / "data/scenes" / scene["object"][key].get<std::string>()).string();
+    scene["environment"]["radiance"] = {1.03, 1.03, 1.03};
+    writeText(dir / "brighter.json", scene.dump());
+    writeText(dir / "changed.json", R"({"renders": [{"name": "cube10_greek_preview_volpath", "scene": "brighter.json",
+                                        "spp": 8, "seed": 103}]})");
+    r = printlight("batch " + (dir / "changed.json").string() + " -o " + (dir / "changed").string() + " --compare " +
+                       (dir / "stored").string() + " --quiet", dir);
+    EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+    EXPECT_NE(r.out.find("-> FAIL"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("REGRESSION"), std::string::npos) << r.out;
+
+    // Bad manifests and a compare directory that would be overwritten.
+    writeText(dir / "bad.json", R"({"renders": [{"name": "../x", "scene": "brighter.json", "spp": 8, "seed": 1}]})");
+    r = printlight("batch " + (dir / "bad.json").string() + " -o " + (dir / "bad").string(), dir);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("bad.json"), std::string::npos) << r.err;
+    EXPECT_EQ(test::countOf(r.err, "\n"), 1) << r.err;
+    writeText(dir / "nospp.json", R"({"renders": [{"name": "x", "scene": "brighter.json", "seed": 1}]})");
+    r = printlight("batch " + (dir / "nospp.json").string() + " -o " + (dir / "bad").string(), dir);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("spp"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
+    r = printlight("batch " + manifest + " -o " + (dir / "stored").string() + " --compare " + (dir / "stored").string(), dir);
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);

@@ -123,6 +123,12 @@ inline std::string readText(const std::filesystem::path& p) {
     return ss.str();
 }
 
+inline int countOf(const std::string& text, const std::string& needle) {
+    int n = 0;
+    for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + needle.size())) ++n;
+    return n;
+}
+
 #ifdef PRINTLIGHT_EXE
 struct CliRun {
     int exitCode;

@@ -1,0 +1,195 @@
+// printlight batch: renders the scenes of a manifest, each with its own seed
+// and sample count, and optionally compares every result with a stored one
+// (regression renders). Results are EXRs in sensor-pixel order.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "apps/arguments.h"
+#include "apps/code_fingerprint.h"
+#include "core/progress.h"
+#include "core/result_comparison.h"
+#include "io/batch_manifest.h"
+#include "io/image_io.h"
+#include "io/input_error.h"
+#include "io/output_file.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+namespace {
+
+std::string channelString(const std::vector<int>& channels) {
+    std::string s;
+    for (int c : channels) s += "rgb"[c];
+    return s;
+}
+
+struct JobOutcome {
+    double seconds = 0;
+    size_t pixels = 0;
+    std::string mode = "-";  // exact | statistical | missing | mismatch
+    Comparison comparison;
+    bool passed = true;
+};
+
+// The scene of a job, with the job's settings applied.
+SceneDescription describeJob(const BatchJob& job, uint64_t seedOffset) {
+    SceneDescription desc = parseScene(job.sceneFile);
+    desc.render.spp = job.spp;
+    desc.render.seed = job.seed + seedOffset;
+    if (job.integrator) desc.render.integrator = *job.integrator;
+    if (job.channels) desc.render.channels = *job.channels;
+    if (desc.render.integrator == "printpt" && desc.render.volpath.reentry)
+        throw InputError(job.sceneFile.string(), "printpt does not trace re-entry; the scene asks for \"reentry\": true");
+    return desc;
+}
+
+// Compares a fresh result with the stored one of the same name: bit for bit
+// if the code, seed, spp, integrator and channels are the same, else by a
+// per-pixel z-test.
+void compareWithStored(const RadianceImage& fresh, size_t pixels, const std::vector<int>& channels,
+                       const std::filesystem::path& storedFile, const ComparisonLimits& limits,
+                       JobOutcome& out) {
+    if (!std::filesystem::exists(storedFile)) {
+        out.mode = "missing";
+        out.passed = false;
+        return;
+    }
+    RadianceImage stored = readExr(storedFile);
+    bool sameRun = true;
+    for (const char* key : {"code", "seed", "spp", "integrator", "channels", "scene"})
+        sameRun = sameRun && stored.meta(key) == fresh.meta(key);
+    if (stored.meta("pixels") != std::to_string(pixels) || stored.meta("channels") != fresh.meta("channels")) {
+        out.mode = "mismatch";  // another sensor or other channels: nothing to compare
+        out.passed = false;
+        return;
+    }
+    auto samples = [](const RadianceImage& im) { return uint32_t(std::strtoul(im.meta("spp").c_str(), nullptr, 10)); };
+    out.comparison = compareResults(pixelResultsOf(fresh, pixels), samples(fresh), pixelResultsOf(stored, pixels),
+                                    samples(stored), channels, limits);
+    out.mode = sameRun ? "exact" : "statistical";
+    out.passed = sameRun ? out.comparison.bitIdentical : out.comparison.passes(limits);
+}
+
+std::string describeComparison(const JobOutcome& o, const std::vector<int>& channels) {
+    if (o.mode == "missing") return "no stored result";
+    if (o.mode == "mismatch") return "stored result is of another sensor or channels";
+    const Comparison& c = o.comparison;
+    std::ostringstream s;
+    if (o.mode == "exact") {
+        s << (c.bitIdentical ? "bit-identical" : "NOT bit-identical (same code and seed)");
+        if (c.bitIdentical) return s.str();
+        s << "; ";
+    }
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.4f %% outliers", 100.0 * c.outlierFraction());
+    s << buf;
+    if (c.nonFinite) s << ", " << c.nonFinite << " NaN/Inf";
+    s << ", bias";
+    for (int ch : channels) {
+        std::snprintf(buf, sizeof buf, " %c %+.3g (z %+.2f)", "rgb"[ch], c.bias[ch], c.biasZ[ch]);
+        s << buf;
+    }
+    return s.str();
+}
+
+}  // namespace
+
+int batchCommand(const std::vector<std::string>& argv) {
+    Arguments args(argv, {"-o", "--compare", "--threads", "--seed-offset", "--max-outlier-fraction"}, {"--quiet"});
+    if (args.positional().size() != 1) throw UsageError("batch needs exactly one MANIFEST.json");
+    auto outDir = args.value("-o");
+    if (!outDir) throw UsageError("batch needs -o DIR for its results");
+    std::optional<std::filesystem::path> compareDir;
+    if (auto c = args.value("--compare")) compareDir = *c;
+    uint64_t seedOffset = uint64_t(args.integer("--seed-offset", 0, int64_t(1) << 40).value_or(0));
+    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    ComparisonLimits limits;
+    if (auto f = args.value("--max-outlier-fraction")) {
+        char* end = nullptr;
+        limits.maxOutlierFraction = std::strtod(f->c_str(), &end);
+        if (end != f->c_str() + f->size() || !(limits.maxOutlierFraction >= 0 && limits.maxOutlierFraction <= 1))
+            throw UsageError("--max-outlier-fraction must be a number in 0..1");
+    }
+    bool quiet = args.has("--quiet");
+
+    // Read and check everything before the first (possibly long) render.
+    BatchManifest manifest = parseBatchManifest(args.positional()[0]);
+    std::vector<SceneDescription> descs;
+    std::filesystem::path dir = *outDir;
+    for (const BatchJob& job : manifest.jobs) {
+        descs.push_back(describeJob(job, seedOffset));
+        std::vector<std::filesystem::path> inputs = descs.back().inputFiles();
+        inputs.push_back(manifest.file);
+        if (compareDir) inputs.push_back(*compareDir / (job.name + ".exr"));
+        refuseToOverwriteInputs(dir / (job.name + ".exr"), inputs);
+    }
+    if (compareDir && std::filesystem::exists(*compareDir) && std::filesystem::exists(dir) &&
+        std::filesystem::equivalent(*compareDir, dir))
+        throw UsageError("-o and --compare name the same directory (the stored results would be overwritten)");
+    std::filesystem::create_directories(dir);
+
+    std::string code = codeFingerprint();
+    std::vector<JobOutcome> outcomes;
+    bool allPassed = true;
+    for (size_t j = 0; j < manifest.jobs.size(); ++j) {
+        const BatchJob& job = manifest.jobs[j];
+        SceneDescription& desc = descs[j];
+        auto t0 = std::chrono::steady_clock::now();
+        Scene scene = loadScene(desc, SceneNeeds::of(desc.render));
+        std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+        desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
+        RenderResult result = render(scene, *sensor, desc.render);
+
+        JobOutcome out;
+        out.pixels = sensor->pixelCount();
+        RadianceImage image = filmToPixelImage(result.film);
+        image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
+                          {"integrator", desc.render.integrator},
+                          {"sensor", desc.sensor.type},
+                          {"pixels", std::to_string(out.pixels)},
+                          {"spp", std::to_string(desc.render.spp)},
+                          {"seed", std::to_string(desc.render.seed)},
+                          {"channels", channelString(desc.render.channels)},
+                          {"code", code}};
+        writeExr(image, dir / (job.name + ".exr"));
+        out.seconds = secondsSince(t0);
+        std::printf("batch [%zu/%zu] %s: %zu px x %u spp x %zu ch, %s, seed %llu, %.2f s\n", j + 1,
+                    manifest.jobs.size(), job.name.c_str(), out.pixels, desc.render.spp,
+                    desc.render.channels.size(), desc.render.integrator.c_str(),
+                    (unsigned long long)desc.render.seed, out.seconds);
+        if (compareDir) {
+            compareWithStored(image, out.pixels, desc.render.channels, *compareDir / (job.name + ".exr"), limits, out);
+            std::printf("  compare (%s): %s -> %s\n", out.mode.c_str(),
+                        describeComparison(out, desc.render.channels).c_str(), out.passed ? "pass" : "FAIL");
+        }
+        std::fflush(stdout);
+        allPassed = allPassed && out.passed;
+        outcomes.push_back(out);
+    }
+
+    std::ostringstream csv;
+    csv << "name,scene,integrator,spp,seed,channels,pixels,seconds,compare,outlier_fraction,"
+           "bias_r,bias_g,bias_b,bias_z_r,bias_z_g,bias_z_b,verdict\n";
+    for (size_t j = 0; j < outcomes.size(); ++j) {
+        const JobOutcome& o = outcomes[j];
+        const SceneDescription& d = descs[j];
+        csv << manifest.jobs[j].name << ',' << manifest.jobs[j].sceneFile.string() << ',' << d.render.integrator
+            << ',' << d.render.spp << ',' << d.render.seed << ',' << channelString(d.render.channels) << ','
+            << o.pixels << ',' << o.seconds << ',' << o.mode << ',' << o.comparison.outlierFraction();
+        for (double b : o.comparison.bias) csv << ',' << b;
+        for (double z : o.comparison.biasZ) csv << ',' << z;
+        csv << ',' << (compareDir ? (o.passed ? "pass" : "fail") : "-") << '\n';
+    }
+    writeTextFile(dir / "batch.csv", csv.str());
+    if (compareDir)
+        std::printf("batch: %s against %s\n", allPassed ? "all results agree" : "REGRESSION", compareDir->string().c_str());
+    return allPassed ? 0 : 1;
+}
+
+}  // namespace pl
