@@ -25,6 +25,8 @@ const char* kUsage =
     "        [--max-outlier-fraction F] [--quiet]\n"
     "         renders every scene of a manifest; with --compare, checks each result against a stored\n"
     "         one (bit-identical for the same code and seed, else a per-pixel z-test); exit 1 on failure\n"
+    "  stability [--quick] [-o REPORT.md] [--seed S] [--threads N]\n"
+    "         numerical stability suite (stiff and extreme cases, both estimators); exit 1 if a case fails\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }
@@ -43,6 +45,7 @@ int main(int argc, char** argv) {
         if (command == "prepare") return pl::prepareCommand(args);
         if (command == "bench") return pl::benchCommand(args);
         if (command == "batch") return pl::batchCommand(args);
+        if (command == "stability") return pl::stabilityCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::Interrupted&) {
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");

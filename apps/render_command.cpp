@@ -103,7 +103,7 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
-        writeSurfaceResultVdb(f, voxels, result.film, outputs[2]);
+        writeSurfaceResultVdb(scene.worldFrame(), voxels, result.film, outputs[2]);
     }
     if (result.stats.trapped)
         std::fprintf(stderr, "printlight: warning: %s paths were trapped (over %lld boundary events without scattering)\n",

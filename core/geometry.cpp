@@ -132,6 +132,7 @@ Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(s
         maxAbs = std::max({maxAbs, std::abs(bounds_.lo[a]), std::abs(bounds_.hi[a])});
     // ~64 float ulps at the mesh's largest coordinate, and never below 0.1 um.
     rayEpsilon_mm_ = std::max(1e-4f, maxAbs * 64.0f * 1.2e-7f);
+    surfaceLift_mm_ = std::max(1e-7f, maxAbs * 4.0f * 1.2e-7f);
 
     impl_->device = rtcNewDevice(nullptr);
     if (!impl_->device) throw std::runtime_error("cannot create an Embree device");
@@ -159,7 +160,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax, float 
     RTCRayHit rh;
     rh.ray.org_x = ray.o.x; rh.ray.org_y = ray.o.y; rh.ray.org_z = ray.o.z;
     rh.ray.dir_x = ray.d.x; rh.ray.dir_y = ray.d.y; rh.ray.dir_z = ray.d.z;
-    rh.ray.tnear = tMin;
+    rh.ray.tnear = std::max(tMin, ray.tMin);
     rh.ray.tfar = tMax;
     rh.ray.mask = 0xffffffffu;
     rh.ray.flags = 0;

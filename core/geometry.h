@@ -2,6 +2,8 @@
 // Embree types stay in geometry.cpp.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -48,7 +50,7 @@ public:
     Geometry& operator=(const Geometry&) = delete;
 
     // Closest hit along the ray with t in [tMin, tMax].
-    std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f, float tMin = 0.0f) const;
+    std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f, float tMin = 0.0f) const;  // from max(tMin, ray.tMin)
     // Closest point on the mesh within radius_mm of p.
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
     // Whether any triangle intersects the axis-aligned box [lo, hi].
@@ -62,20 +64,30 @@ public:
     Bounds3f bounds() const { return bounds_; }
     // Offset that moves a point off the surface robustly for this mesh's scale.
     float rayEpsilon_mm() const { return rayEpsilon_mm_; }
+    // A few float ulps at the mesh's largest coordinate: how far off the
+    // surface a spawned ray's origin sits (surely on the side it leaves to).
+    float surfaceLift_mm() const { return surfaceLift_mm_; }
+
+    // A ray leaving the surface point p (geometric normal ng) in direction d
+    // (unit). Its origin is only surfaceLift off the surface, so the medium
+    // right behind the surface is not skipped (at sigma_t 1e4/mm a
+    // rayEpsilon offset would skip a mean free path); the surface itself is
+    // skipped by tMin, the distance along d at which the ray is rayEpsilon
+    // off the plane (capped at 16 rayEpsilon for grazing directions, whose
+    // origin then lifts further).
+    Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d) const {
+        float cosine = dot(d, ng);
+        float side = cosine > 0 ? 1.0f : -1.0f;
+        float back = (rayEpsilon_mm_ - surfaceLift_mm_) / std::max(std::abs(cosine), 1.0f / 16.0f);
+        return {p + ng * (side * rayEpsilon_mm_) - d * back, d, back};
+    }
 
 private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
     TriangleMesh mesh_;
     Bounds3f bounds_;
-    float rayEpsilon_mm_;
+    float rayEpsilon_mm_, surfaceLift_mm_;
 };
-
-// Spawns a ray leaving the surface point p in direction d (unit),
-// offset to the side d points to.
-inline Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d, float eps_mm) {
-    float side = dot(d, ng) > 0 ? 1.0f : -1.0f;
-    return {p + ng * (side * eps_mm), d};
-}
 
 }  // namespace pl

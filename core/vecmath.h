@@ -66,6 +66,9 @@ struct Frame {
 struct Ray {
     Point3f o;
     Vec3f d;  // unit length
+    // Surfaces nearer than this are ignored (a ray spawned on a surface
+    // must not hit it again); media are not: they start at o.
+    float tMin = 0.0f;
     Point3f at(float t) const { return o + d * t; }
 };
 

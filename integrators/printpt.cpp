@@ -30,7 +30,7 @@ float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
     auto t = refract(ray.d, n, scene_.ior);
     Vec3f d = t ? *t : ray.d;
     if (dot(d, entry->ng) >= 0) d = -entry->ng;
-    Ray inside = spawnRay(entry->p, entry->ng, d, geometry.rayEpsilon_mm());
+    Ray inside = geometry.spawnRay(entry->p, entry->ng, d);
 
     // Branching: k walks share the camera ray and the entry.
     const int k = std::max(1, options_.branches);
@@ -58,7 +58,6 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     const Geometry& geometry = *scene_.geometry;
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float Le = scene_.environment[channel];
-    const float eps = geometry.rayEpsilon_mm();
     const float etaOut = 1.0f / scene_.ior;
     float beta = 1.0f, L = 0.0f;
     int64_t bounces = 0;
@@ -146,7 +145,7 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
         Vec3f r = reflectOnSide(ray.d, *hit);
         if (dot(r, hit->ng) >= 0) r = -hit->ng;
-        ray = spawnRay(hit->p, hit->ng, r, eps);
+        ray = geometry.spawnRay(hit->p, hit->ng, r);
     }
 }
 

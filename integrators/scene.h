@@ -18,6 +18,27 @@ struct Scene {
     float ior = 1.5f;          // object / air
     // Optional: lets printpt skip boundary queries deep inside (null: never skip).
     std::unique_ptr<SurfaceClearance> clearance;
+    // Geometry, grid and sensors live in a local frame whose origin is the
+    // grid's corner (see toLocalFrame); this is its world position.
+    Vec3f worldOrigin_mm{0, 0, 0};
+
+    // The grid's placement in the world (for outputs).
+    GridFrame worldFrame() const {
+        GridFrame f = medium->frame();
+        f.cornerMin_mm = f.cornerMin_mm + worldOrigin_mm;
+        return f;
+    }
 };
+
+// Moves mesh and grid so that the grid's corner is the origin and returns
+// the world position of that origin. Far from the world origin floats are
+// coarse (6e-5 mm at 1 m), and ray offsets scale with the coordinates: at
+// 1 m they would skip a tenth of a mean free path at every boundary.
+inline Vec3f toLocalFrame(TriangleMesh& mesh, LabelGrid& grid) {
+    Vec3f origin = grid.frame().cornerMin_mm;
+    for (Point3f& p : mesh.positions_mm) p = p - origin;
+    grid.placeCornerAt({0, 0, 0});
+    return origin;
+}
 
 }  // namespace pl

@@ -10,7 +10,7 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
     const Geometry& geometry = *scene_.geometry;
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float Le = scene_.environment[channel];
-    const float eps = geometry.rayEpsilon_mm();
+    const float lift = geometry.surfaceLift_mm();
     float beta = 1.0f;          // path throughput
     int64_t depth = 0;          // scattering events
     int64_t bounces = 0;        // boundary events since the last scattering event
@@ -45,7 +45,10 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                 PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
-                float t = std::max(0.0f, std::min(ff.t_mm, hit->t - eps));
+                // (By the surface lift only: a rayEpsilon here would move
+                // collisions a mean free path deep at sigma_t 1e4/mm.)
+                float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
+                float t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
                 ray = {ray.at(t), ps.dOut};
                 spawnedInside = true;
                 continue;
@@ -78,7 +81,7 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
         // Shading normals must not send the ray to the wrong side.
         float side = nowOutside ? 1.0f : -1.0f;
         if (dot(d, hit->ng) * side <= 0) d = hit->ng * side;
-        ray = spawnRay(hit->p, hit->ng, d, eps);
+        ray = geometry.spawnRay(hit->p, hit->ng, d);
         spawnedInside = !nowOutside;
     }
 }

@@ -156,6 +156,7 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
         throw InputError(d.labelsFile.string(), "grid holds only void voxels");
 
     // The mesh must overlap the grid.
+    scene.worldOrigin_mm = toLocalFrame(mesh, grid);
     scene.geometry = std::make_unique<Geometry>(std::move(mesh));
     Bounds3f mb = scene.geometry->bounds();
     Point3f glo = grid.frame().cornerMin_mm, ghi = grid.frame().cornerMax_mm();
@@ -172,10 +173,13 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
 
 std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene) {
     const SensorDescription& s = desc.sensor;
+    CameraPose local = s.pose;  // in the scene's local frame
+    local.position_mm = local.position_mm - scene.worldOrigin_mm;
+    local.lookAt_mm = local.lookAt_mm - scene.worldOrigin_mm;
     if (s.type == "perspective")
-        return std::make_unique<PerspectiveSensor>(s.pose, s.fovY_deg, s.width, s.height);
+        return std::make_unique<PerspectiveSensor>(local, s.fovY_deg, s.width, s.height);
     if (s.type == "orthographic")
-        return std::make_unique<OrthographicSensor>(s.pose, s.viewWidth_mm, s.width, s.height);
+        return std::make_unique<OrthographicSensor>(local, s.viewWidth_mm, s.width, s.height);
     const LabelGrid& grid = scene.medium->grid();
     try {
         return std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());

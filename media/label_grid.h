@@ -32,6 +32,8 @@ public:
                                Label voidLabel);
 
     const GridFrame& frame() const { return frame_; }
+    // Moves the grid in the world (the voxels keep their indices).
+    void placeCornerAt(const Point3f& cornerMin_mm) { frame_.cornerMin_mm = cornerMin_mm; }
     Label voidLabel() const { return voidLabel_; }
     // Label of a voxel (void outside the frame). Slow path: no cached accessor.
     Label label(const Vec3i& v) const;

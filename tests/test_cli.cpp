@@ -340,6 +340,20 @@ TEST(Cli, BatchRegressionRendersOfTheBundledScenes) {
     EXPECT_EQ(r.exitCode, 1) << r.err;
 }
 
+// The quick subset of the numerical stability suite: every row passes
+// (closed forms, furnace, Beer-Lambert, the other estimator, far from the
+// origin, a missing label) and the report is written.
+TEST(Cli, StabilityQuickSuitePasses) {
+    fs::path dir = test::freshTempDir("cli_stability");
+    CliRun r = printlight("stability --quick -o " + (dir / "stability.md").string(), dir);
+    EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
+    std::string md = readText(dir / "stability.md");
+    EXPECT_NE(md.find("| far from origin |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| dense Beer-Lambert |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("FAIL"), std::string::npos) << md;
+    EXPECT_EQ(test::countOf(r.out, "FAIL"), 0) << r.out;
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);

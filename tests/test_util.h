@@ -16,68 +16,22 @@
 
 #include "core/geometry.h"
 #include "integrators/scene.h"
+#include "integrators/synthetic_scene.h"
 #include "media/label_grid.h"
 #include "media/materials.h"
 
 namespace pl::test {
 
-// Axis-aligned box with outward counter-clockwise winding.
-inline TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi) {
-    TriangleMesh m;
-    for (int i = 0; i < 8; ++i)
-        m.positions_mm.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
-    // Faces as quads (a,b,c,d) counter-clockwise from outside.
-    const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    for (const auto& q : quads) m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-    return m;
-}
-
-inline MaterialTable tableOf(std::initializer_list<std::pair<Label, Material>> entries) {
-    MaterialTable t;
-    for (const auto& [label, m] : entries) {
-        t.byLabel[label] = m;
-        t.byLabel[label].defined = true;
-    }
-    return t;
-}
-
-inline Material material(RGB sigmaT, RGB albedo, RGB g = {0, 0, 0}) {
-    Material m;
-    m.sigmaT_perMm = sigmaT;
-    m.albedo = albedo;
-    m.g = g;
-    m.defined = true;
-    return m;
-}
-
-constexpr Label kTestVoid = 5;
+using synthetic::boxMesh;
+using synthetic::boxScene;
+using synthetic::material;
+using synthetic::tableOf;
+constexpr Label kTestVoid = synthetic::kVoid;
 
 // Box [0, size] whose voxels (voxel_mm, fitting exactly) carry labelOf(voxel).
 inline LabelGrid boxGrid(const Vec3i& resolution, const Vec3f& voxel_mm,
                          const std::function<Label(const Vec3i&)>& labelOf) {
-    GridFrame f;
-    f.resolution = resolution;
-    f.voxelSize_mm = voxel_mm;
-    std::vector<Label> labels(f.voxelCount());
-    size_t i = 0;
-    for (int z = 0; z < resolution.z; ++z)
-        for (int y = 0; y < resolution.y; ++y)
-            for (int x = 0; x < resolution.x; ++x) labels[i++] = labelOf({x, y, z});
-    return LabelGrid::fromDense(f, labels, kTestVoid);
-}
-
-inline Scene boxScene(const Vec3i& resolution, const Vec3f& voxel_mm,
-                      const std::function<Label(const Vec3i&)>& labelOf, MaterialTable table,
-                      float ior, RGB environment = {1, 1, 1}) {
-    Scene s;
-    Point3f hi{resolution.x * voxel_mm.x, resolution.y * voxel_mm.y, resolution.z * voxel_mm.z};
-    s.geometry = std::make_unique<Geometry>(boxMesh({0, 0, 0}, hi));
-    s.medium = std::make_unique<LabelMedium>(boxGrid(resolution, voxel_mm, labelOf), std::move(table));
-    s.ior = ior;
-    s.environment = environment;
-    s.clearance = std::make_unique<SurfaceClearance>(*s.geometry, s.medium->frame());
-    return s;
+    return synthetic::labelGrid(resolution, voxel_mm, labelOf);
 }
 
 // Pearson chi-square test; bins with small expectation are pooled. Returns
