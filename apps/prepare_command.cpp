@@ -17,6 +17,7 @@
 #include "io/mesh_io.h"
 #include "io/output_file.h"
 #include "prepare/halftone.h"
+#include "core/memory_budget.h"
 #include "prepare/voxelizer.h"
 
 namespace pl {
@@ -120,10 +121,17 @@ int prepareCommand(const std::vector<std::string>& argv) {
 
     // Stage 2: scanlines and near-surface bricks.
     auto t1 = std::chrono::steady_clock::now();
+    {
+        GridFrame planned = Voxelizer::frameFor(geometry.bounds(), vs);
+        if (planned.voxelCount() > kMaxGridVoxels)
+            throw InputError(model.string(), "voxel grid of " + std::to_string(planned.voxelCount()) + " voxels is too large");
+        // Scanline intervals, the label tree (up to ~1.2 bytes per voxel) and the band.
+        if (auto why = memoryShortfall(uint64_t(double(planned.voxelCount()) * 3.0),
+                                       "a " + std::to_string(planned.voxelCount()) + "-voxel grid"))
+            throw InputError(model.string(), *why);
+    }
     Voxelizer vox(geometry, vs);
     const GridFrame& f = vox.frame();
-    if (f.voxelCount() > kMaxGridVoxels)
-        throw InputError(model.string(), "voxel grid of " + std::to_string(f.voxelCount()) + " voxels is too large");
     double tScan = secondsSince(t1);
 
     // Stage 3: slices: distances, colours, halftoning, trees.

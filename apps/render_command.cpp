@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "apps/arguments.h"
+#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
@@ -77,6 +78,10 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());
     std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+    // Film (3 channels of double sums) plus the output images, per pixel.
+    uint64_t pixelBytes = uint64_t(sensor->pixelCount()) * 200 + uint64_t(sensor->imageWidth()) * sensor->imageHeight() * 40;
+    if (auto why = memoryShortfall(pixelBytes, withThousands(sensor->pixelCount()) + " sensor pixels"))
+        throw InputError(desc.sceneFile.string(), *why);
     double setupSeconds = secondsSince(t0);
     const GridFrame& f = scene.medium->frame();
     if (!quiet)

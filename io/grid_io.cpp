@@ -9,6 +9,7 @@
 #include <openvdb/io/File.h>
 
 #include "io/file_names.h"
+#include "core/memory_budget.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"
@@ -20,8 +21,15 @@ namespace {
 
 constexpr Label kDefaultVoidLabel = 5;  // "air" in the research label convention
 
-// Validates a resolution read from a file header.
-void checkResolution(const std::string& name, const int32_t res[3]) {
+// Memory per voxel of the frame, for refusing jobs that cannot fit: a dense
+// read holds the labels (1 byte) and builds the tree (up to ~1.2 bytes when
+// nothing is uniform); a .vdb is sparse already, and what rendering adds per
+// voxel (majorant bricks, surface clearance: 4 bytes per 4^3 block) is small.
+constexpr double kDenseReadBytesPerVoxel = 2.3, kSparseBytesPerVoxel = 0.25;
+
+// Validates a resolution read from a file header; bytesPerVoxel: what the
+// dense read and the label tree take per voxel.
+void checkResolution(const std::string& name, const int32_t res[3], double bytesPerVoxel) {
     uint64_t n = 1;
     for (int a = 0; a < 3; ++a) {
         if (res[a] <= 0 || res[a] > (1 << 24))
@@ -30,6 +38,8 @@ void checkResolution(const std::string& name, const int32_t res[3]) {
         n *= uint64_t(res[a]);
     }
     if (n > kMaxGridVoxels) throw InputError(name, "grid of " + std::to_string(n) + " voxels is too large");
+    if (auto why = memoryShortfall(uint64_t(double(n) * bytesPerVoxel), "reading " + std::to_string(n) + " voxels"))
+        throw InputError(name, *why);
 }
 
 GridFrame frameFromBox(const std::string& name, const int32_t res[3], const double lo[3],
@@ -96,7 +106,7 @@ LabelGrid loadLabelGridBin(const std::filesystem::path& file, bool gzip, Label v
     in.read(res, sizeof res, "header");
     in.read(lo, sizeof lo, "header");
     in.read(hi, sizeof hi, "header");
-    checkResolution(name, res);
+    checkResolution(name, res, kDenseReadBytesPerVoxel);
     GridFrame frame = frameFromBox(name, res, lo, hi);
     std::vector<Label> labels(frame.voxelCount());
     in.read(labels.data(), labels.size(), "labels");
@@ -116,7 +126,7 @@ LabelGrid loadLabelGridVol(const std::filesystem::path& file, Label voidLabel) {
     in.read(res, sizeof res, "header");
     in.read(&channels, 4, "header");
     in.read(box, sizeof box, "header");
-    checkResolution(name, res);
+    checkResolution(name, res, kDenseReadBytesPerVoxel + 4);  // float32 data are read whole
     if (channels != 1) throw InputError(name, "a label grid needs 1 channel, found " + std::to_string(channels));
     double lo[3] = {box[0], box[1], box[2]}, hi[3] = {box[3], box[4], box[5]};
     GridFrame frame = frameFromBox(name, res, lo, hi);
@@ -207,7 +217,7 @@ LabelGrid loadLabelGridVdb(const std::filesystem::path& file, std::optional<Labe
     }
     if (box.empty()) throw InputError(name, "grid 'labels' is empty");
     int32_t res[3] = {box.dim().x(), box.dim().y(), box.dim().z()};
-    checkResolution(name, res);
+    checkResolution(name, res, kSparseBytesPerVoxel);
     for (int a = 0; a < 3; ++a) {
         if (!(vs[a] > 0) || !std::isfinite(vs[a])) throw InputError(name, "invalid voxel size");
         frame.indexMin[a] = box.min()[a];

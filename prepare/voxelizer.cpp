@@ -12,16 +12,21 @@ namespace {
 constexpr int kBrick = 8;
 }
 
-Voxelizer::Voxelizer(const Geometry& geometry, const VoxelizeSettings& settings)
-    : geometry_(geometry), settings_(settings) {
-    // The frame: the mesh's bounds plus the margin, in whole voxels.
-    Bounds3f b = geometry.bounds();
+GridFrame Voxelizer::frameFor(const Bounds3f& meshBounds, const VoxelizeSettings& settings) {
+    // The mesh's bounds plus the margin, in whole voxels.
+    GridFrame f;
     for (int a = 0; a < 3; ++a) {
-        float lo = b.lo[a] - settings.margin_mm, hi = b.hi[a] + settings.margin_mm;
-        frame_.voxelSize_mm[a] = settings.voxel_mm[a];
-        frame_.resolution[a] = std::max(1, int(std::ceil((hi - lo) / settings.voxel_mm[a])));
-        frame_.cornerMin_mm[a] = lo;
+        float lo = meshBounds.lo[a] - settings.margin_mm, hi = meshBounds.hi[a] + settings.margin_mm;
+        f.voxelSize_mm[a] = settings.voxel_mm[a];
+        double n = std::ceil(double(hi - lo) / settings.voxel_mm[a]);
+        f.resolution[a] = int(std::min(std::max(n, 1.0), double(1 << 30)));  // absurd sizes stay representable
+        f.cornerMin_mm[a] = lo;
     }
+    return f;
+}
+
+Voxelizer::Voxelizer(const Geometry& geometry, const VoxelizeSettings& settings)
+    : geometry_(geometry), settings_(settings), frame_(frameFor(geometry.bounds(), settings)) {
     const Vec3i& r = frame_.resolution;
 
     // Inside intervals from x scanlines through the voxel centres.

@@ -48,6 +48,8 @@ struct VoxelRow {
 class Voxelizer {
 public:
     Voxelizer(const Geometry& geometry, const VoxelizeSettings& settings);
+    // The grid a mesh with these bounds gets (check its size before building).
+    static GridFrame frameFor(const Bounds3f& meshBounds, const VoxelizeSettings& settings);
 
     const GridFrame& frame() const { return frame_; }
     // Bricks within reach of the surface, and all bricks.

@@ -213,6 +213,28 @@ TEST(Cli, AbsurdResolutions) {
     expectCleanFailure(g, g.render(), "grid.bin", "too large");
 }
 
+// Jobs that cannot fit are refused before the big allocations, with the
+// estimate in the one-line error (the budget is lowered through the
+// environment so the test does not depend on the machine's memory).
+TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
+    TestScene s("memory");
+    ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "1", 1);
+    CliRun r = printlight("render " + (test::sourceDir() / "data/scenes/cube10_greek_surface.json").string() + " -o " +
+                              s.out().string(), s.dir);
+    ::unsetenv("PRINTLIGHT_MEMORY_LIMIT_MB");
+    expectCleanFailure(s, r, "cube10_greek.vdb", "of memory; this machine has 1.0 MiB (refused before allocating)");
+    // prepare: a 0.02 mm grid of the 10 mm cube (~1.4e8 voxels) against 64 MiB.
+    ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "64", 1);
+    r = printlight("prepare " + (test::sourceDir() / "data/models/cube10.gltf").string() + " -o " +
+                       (s.out().string() + ".vdb") + " --voxel 0.02,0.02,0.02", s.dir);
+    ::unsetenv("PRINTLIGHT_MEMORY_LIMIT_MB");
+    expectCleanFailure(s, r, "cube10.gltf", "needs about");
+    // Far beyond any machine: refused as too large, and quickly.
+    r = printlight("prepare " + (test::sourceDir() / "data/models/cube10.gltf").string() + " -o " +
+                       (s.out().string() + ".vdb") + " --voxel 0.0001,0.0001,0.0001", s.dir);
+    expectCleanFailure(s, r, "cube10.gltf", "too large");
+}
+
 TEST(Cli, UnknownSceneKeysAreTypos) {
     TestScene s("typo");
     s.scene["render"]["sps"] = 4;

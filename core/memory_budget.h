@@ -1,0 +1,19 @@
+// Refusing jobs that cannot fit: the memory a job will need is estimated
+// before the big allocations and compared with what the machine has.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace pl {
+
+// Physical memory, or the cgroup (container) limit if lower; the
+// environment variable PRINTLIGHT_MEMORY_LIMIT_MB overrides both (tests,
+// shared machines).
+uint64_t memoryBudgetBytes();
+
+// A one-line explanation if `bytes` (needed for `what`) exceeds the budget.
+std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what);
+
+}  // namespace pl
