@@ -85,6 +85,31 @@ public:
             if (size_t(in_.gcount()) != n) throw InputError(name_, std::string("truncated file (") + what + ")");
         }
     }
+    // Throws before a big allocation if a plain file cannot hold n more
+    // bytes (a corrupt header must not make us allocate what is not there).
+    // A gzip stream's length is unknown: readInChunks grows as data arrive.
+    void expectAtLeast(uint64_t n, const char* what) {
+        if (gz_) return;
+        auto here = in_.tellg();
+        in_.seekg(0, std::ios::end);
+        auto end = in_.tellg();
+        in_.seekg(here);
+        if (here < 0 || end < 0 || uint64_t(end - here) < n)
+            throw InputError(name_, std::string("truncated file (") + what + ": header promises " + std::to_string(n) +
+                                        " bytes, " + std::to_string(end >= here ? uint64_t(end - here) : 0) + " remain)");
+    }
+    template <class T>
+    std::vector<T> readArray(size_t count, const char* what) {
+        expectAtLeast(uint64_t(count) * sizeof(T), what);
+        std::vector<T> out;
+        const size_t chunk = (size_t(64) << 20) / sizeof(T);
+        while (out.size() < count) {
+            size_t at = out.size(), n = std::min(chunk, count - at);
+            out.resize(at + n);
+            read(out.data() + at, n * sizeof(T), what);
+        }
+        return out;
+    }
     bool atEnd() {
         char c;
         if (gz_) return gzread(gz_, &c, 1) == 0;
@@ -108,8 +133,7 @@ LabelGrid loadLabelGridBin(const std::filesystem::path& file, bool gzip, Label v
     in.read(hi, sizeof hi, "header");
     checkResolution(name, res, kDenseReadBytesPerVoxel);
     GridFrame frame = frameFromBox(name, res, lo, hi);
-    std::vector<Label> labels(frame.voxelCount());
-    in.read(labels.data(), labels.size(), "labels");
+    std::vector<Label> labels = in.readArray<Label>(frame.voxelCount(), "labels");
     if (!in.atEnd()) throw InputError(name, "trailing data after the labels (wrong resolution?)");
     return LabelGrid::fromDense(frame, labels, voidLabel);
 }
@@ -130,12 +154,12 @@ LabelGrid loadLabelGridVol(const std::filesystem::path& file, Label voidLabel) {
     if (channels != 1) throw InputError(name, "a label grid needs 1 channel, found " + std::to_string(channels));
     double lo[3] = {box[0], box[1], box[2]}, hi[3] = {box[3], box[4], box[5]};
     GridFrame frame = frameFromBox(name, res, lo, hi);
-    std::vector<Label> labels(frame.voxelCount());
+    std::vector<Label> labels;
     if (encoding == 3) {
-        in.read(labels.data(), labels.size(), "data");
+        labels = in.readArray<Label>(frame.voxelCount(), "data");
     } else if (encoding == 1) {
-        std::vector<float> values(labels.size());
-        in.read(values.data(), values.size() * 4, "data");
+        std::vector<float> values = in.readArray<float>(frame.voxelCount(), "data");
+        labels.resize(values.size());
         for (size_t i = 0; i < values.size(); ++i) {
             float v = values[i];
             if (!(v >= 0 && v <= 255 && v == std::floor(v)))
