@@ -21,7 +21,7 @@ JsonReader::JsonReader(const std::filesystem::path& file) : fileName_(file.strin
     ss << in.rdbuf();
     try {
         root_ = nlohmann::json::parse(ss.str());
-    } catch (const nlohmann::json::parse_error& e) {
+    } catch (const nlohmann::json::exception& e) {  // parse_error; out_of_range for numbers such as 9e999
         std::string msg = e.what();
         // nlohmann's message is "[json.exception.parse_error.101] parse error at line ..."
         auto pos = msg.find("] ");

@@ -126,6 +126,10 @@ TEST(Cli, MalformedSceneJson) {
     writeText(s.dir / "scene.json", "{ \"object\": { \"mesh\": ");
     CliRun r = printlight("render " + (s.dir / "scene.json").string() + " -o " + s.out().string(), s.dir);
     expectCleanFailure(s, r, "scene.json", "malformed JSON");
+    // A number beyond double's range (found by fuzzing: nlohmann throws out_of_range).
+    writeText(s.dir / "scene.json", "{ \"object\": 9e999 }");
+    r = printlight("render " + (s.dir / "scene.json").string() + " -o " + s.out().string(), s.dir);
+    expectCleanFailure(s, r, "scene.json", "malformed JSON");
 }
 
 TEST(Cli, MissingFiles) {
