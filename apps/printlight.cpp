@@ -26,7 +26,8 @@ const char* kUsage =
     "         renders every scene of a manifest; with --compare, checks each result against a stored\n"
     "         one (bit-identical for the same code and seed, else a per-pixel z-test); exit 1 on failure\n"
     "  stability [--quick] [-o REPORT.md] [--seed S] [--threads N]\n"
-    "         numerical stability suite (stiff and extreme cases, both estimators); exit 1 if a case fails\n"
+    "         numerical stability suite (stiff and extreme cases, both estimators); writes REPORT.md\n"
+    "         (default docs/stability.md if ./docs exists, else stability.md); exit 1 if a case fails\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }

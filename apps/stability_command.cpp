@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 
 #include "apps/arguments.h"
@@ -77,8 +78,11 @@ int stabilityCommand(const std::vector<std::string>& argv) {
     });
     int failed = 0;
     for (const auto& r : rows) failed += !r.pass;
-    if (auto o = args.value("-o")) writeTextFile(*o, markdownTable(rows, quick, threads, secondsSince(t0)));
-    std::printf("stability: %zu of %zu rows pass (%.1f s)\n", rows.size() - size_t(failed), rows.size(), secondsSince(t0));
+    // Default: the repository's report when run from its root.
+    std::string out = args.value("-o").value_or(std::filesystem::is_directory("docs") ? "docs/stability.md" : "stability.md");
+    writeTextFile(out, markdownTable(rows, quick, threads, secondsSince(t0)));
+    std::printf("stability: %zu of %zu rows pass (%.1f s) -> %s\n", rows.size() - size_t(failed), rows.size(),
+                secondsSince(t0), out.c_str());
     return failed ? 1 : 0;
 }
 
