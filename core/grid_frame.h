@@ -59,6 +59,8 @@ constexpr Vec3i kFaceDirections[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
 struct SurfaceVoxel {
     Vec3i voxel;
     uint8_t exposedFaces = 0;
+    bool operator==(const SurfaceVoxel& o) const { return voxel == o.voxel && exposedFaces == o.exposedFaces; }
+    bool operator!=(const SurfaceVoxel& o) const { return !(*this == o); }
 };
 
 }  // namespace pl

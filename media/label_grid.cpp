@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
 #include "media/label_tree.h"
 
@@ -40,6 +42,21 @@ LabelGrid LabelGrid::fromDense(const GridFrame& frame, const std::vector<Label>&
     // Uniform blocks become tiles: that is where the memory win comes from.
     tree->vdb->prune();
     return LabelGrid(frame, voidLabel, std::move(tree));
+}
+
+LabelGrid LabelGrid::withChanges(const std::vector<Change>& changes) const {
+    auto tree = std::make_shared<Tree>();
+    tree->vdb = std::make_shared<LabelTreeType>(*tree_->vdb);  // deep copy: this grid stays as it is
+    openvdb::tree::ValueAccessor<LabelTreeType> acc(*tree->vdb);
+    for (const Change& c : changes) {
+        if (!frame_.contains(c.voxel))
+            throw std::out_of_range("voxel (" + std::to_string(c.voxel.x) + ", " + std::to_string(c.voxel.y) + ", " +
+                                    std::to_string(c.voxel.z) + ") is outside the label grid");
+        if (c.label == voidLabel_) acc.setValueOff(toCoord(c.voxel), voidLabel_);
+        else acc.setValueOn(toCoord(c.voxel), c.label);
+    }
+    tree->vdb->prune();
+    return LabelGrid(frame_, voidLabel_, std::move(tree));
 }
 
 Label LabelGrid::label(const Vec3i& v) const {

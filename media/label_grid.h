@@ -30,6 +30,13 @@ public:
     // Builds the sparse tree from dense labels, x fastest, then y, then z.
     static LabelGrid fromDense(const GridFrame& frame, const std::vector<Label>& labels,
                                Label voidLabel);
+    // A copy with some voxels relabelled (the void label empties a voxel);
+    // voxels outside the frame are an error (std::out_of_range).
+    struct Change {
+        Vec3i voxel;
+        Label label;
+    };
+    LabelGrid withChanges(const std::vector<Change>& changes) const;
 
     const GridFrame& frame() const { return frame_; }
     // Moves the grid in the world (the voxels keep their indices).

@@ -28,6 +28,7 @@ public:
     // estimation towards the surface needs them).
     void setSurfaceFields(std::shared_ptr<const VoxelFields> fields) { fields_ = std::move(fields); }
     bool hasSurfaceFields() const { return fields_ != nullptr; }
+    const std::shared_ptr<const VoxelFields>& surfaceFields() const { return fields_; }
 
     CellRay toCellRay(const Ray& r) const {
         return {{r.o.x * scale_.x + offset_.x, r.o.y * scale_.y + offset_.y,

@@ -1,0 +1,101 @@
+#include "api/predictor.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include "core/progress.h"
+#include "io/input_error.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+struct Predictor::State {
+    Scene scene;
+    MaterialTable materials;
+    std::shared_ptr<const VoxelFields> fields;  // sdf/normal for NEE, if the scene has them
+    std::vector<SurfaceVoxel> surfaceVoxels;
+    std::unique_ptr<SurfaceVoxelSensor> sensor;
+};
+
+Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings)
+    : state_(std::make_unique<State>()), settings_(settings) {
+    if (desc.sensor.type != "surface_voxels")
+        throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
+    SceneNeeds needs = SceneNeeds::of(settings);
+    state_->scene = loadScene(desc, needs);
+    state_->materials = state_->scene.medium->materials();
+    if (state_->scene.medium->hasSurfaceFields()) state_->fields = state_->scene.medium->surfaceFields();
+    const LabelGrid& grid = state_->scene.medium->grid();
+    state_->surfaceVoxels = grid.surfaceVoxels();
+    state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, grid.frame(), state_->surfaceVoxels);
+}
+
+std::unique_ptr<Predictor> Predictor::fromSceneFile(const std::filesystem::path& sceneFile) {
+    SceneDescription desc = parseScene(sceneFile);
+    return std::make_unique<Predictor>(desc, desc.render);
+}
+
+Predictor::~Predictor() = default;
+
+const LabelGrid& Predictor::labels() const { return state_->scene.medium->grid(); }
+size_t Predictor::surfaceVoxelCount() const { return state_->sensor->pixelCount(); }
+
+void Predictor::install(LabelGrid grid) {
+    auto t0 = std::chrono::steady_clock::now();
+    const LabelGrid& old = labels();
+    const GridFrame &a = grid.frame(), &b = old.frame();
+    bool sameVoxelSize = a.voxelSize_mm.x == b.voxelSize_mm.x && a.voxelSize_mm.y == b.voxelSize_mm.y &&
+                         a.voxelSize_mm.z == b.voxelSize_mm.z;
+    if (a.indexMin != b.indexMin || a.resolution != b.resolution || !sameVoxelSize || grid.voidLabel() != old.voidLabel())
+        throw std::invalid_argument("new labels must lie on the same voxels (frame and void label) as the scene's");
+    auto hist = grid.histogram();
+    for (int l = 0; l < 256; ++l)
+        if (hist[size_t(l)] && l != grid.voidLabel() && !state_->materials.byLabel[size_t(l)].defined)
+            throw std::invalid_argument("label " + std::to_string(l) + " is not in the material table");
+    // Grid, lookup tables and majorants: everything that depends on labels.
+    grid.placeCornerAt(b.cornerMin_mm);  // the scene's local frame
+    state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
+    if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
+    // The sensor only depends on which voxels are void.
+    std::vector<SurfaceVoxel> surface = labels().surfaceVoxels();
+    if (surface != state_->surfaceVoxels) {
+        state_->surfaceVoxels = std::move(surface);
+        state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, labels().frame(),
+                                                              state_->surfaceVoxels);
+    }
+    pendingUpdateSeconds_ += secondsSince(t0);
+}
+
+void Predictor::setLabels(LabelGrid grid) { install(std::move(grid)); }
+
+void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
+    auto t0 = std::chrono::steady_clock::now();
+    LabelGrid next = labels().withChanges(changes);
+    pendingUpdateSeconds_ += secondsSince(t0);
+    install(std::move(next));
+}
+
+SurfacePrediction Predictor::predict() {
+    RenderSettings rs = settings_;
+    rs.showProgress = false;
+    RenderResult r = render(state_->scene, *state_->sensor, rs);
+    SurfacePrediction p;
+    size_t n = state_->sensor->pixelCount();
+    p.voxels.reserve(n);
+    for (const auto& px : state_->sensor->pixels()) p.voxels.push_back(px.voxel);
+    p.radiance.resize(n);
+    p.standardError.resize(n);
+    p.samples.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        p.radiance[i] = r.film.meanRGB(i);
+        p.standardError[i] = r.film.standardErrorRGB(i);
+        p.samples[i] = r.film.samples(i, rs.channels.front());
+    }
+    p.stats = r.stats;
+    p.renderSeconds = r.seconds;
+    p.updateSeconds = pendingUpdateSeconds_;
+    pendingUpdateSeconds_ = 0;
+    return p;
+}
+
+}  // namespace pl

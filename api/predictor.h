@@ -1,0 +1,59 @@
+// The prediction API an appearance-optimisation loop calls every iteration
+// (docs/api.md): mesh, BVH, surface clearance, sensor and materials are
+// loaded once; each iteration swaps in new labels (a whole grid or a list of
+// changed voxels) and returns, for every surface voxel, the RGB radiance
+// leaving it along its normal and the standard error of that estimate.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "integrators/render.h"
+#include "media/label_grid.h"
+
+namespace pl {
+
+struct SceneDescription;
+
+struct SurfacePrediction {
+    std::vector<Vec3i> voxels;  // the surface voxels, in sensor order (z, then y, then x)
+    std::vector<RGB> radiance, standardError;
+    std::vector<uint32_t> samples;  // per voxel (per channel rendered)
+    PathStats stats;
+    double updateSeconds = 0;  // swapping labels in: grid, majorants, sensor check
+    double renderSeconds = 0;
+};
+
+class Predictor {
+public:
+    // Loads the scene's mesh, materials and labels (sensor must be
+    // surface_voxels); `settings` chooses estimator, spp, seed and channels.
+    Predictor(const SceneDescription& scene, const RenderSettings& settings);
+    static std::unique_ptr<Predictor> fromSceneFile(const std::filesystem::path& sceneFile);
+    ~Predictor();
+
+    // The next iteration's labels: a grid on the same voxels (same frame and
+    // void label), or changes to the current one. Labels must be in the
+    // material table (std::invalid_argument otherwise). If the set of
+    // surface voxels changes (the shape changed), the sensor is rebuilt.
+    void setLabels(LabelGrid grid);
+    void changeLabels(const std::vector<LabelGrid::Change>& changes);
+
+    // Renders the current labels. Same labels and seed, same bits.
+    SurfacePrediction predict();
+
+    RenderSettings& settings() { return settings_; }
+    const LabelGrid& labels() const;
+    size_t surfaceVoxelCount() const;
+
+private:
+    void install(LabelGrid grid);
+
+    struct State;
+    std::unique_ptr<State> state_;
+    RenderSettings settings_;
+    double pendingUpdateSeconds_ = 0;
+};
+
+}  // namespace pl
