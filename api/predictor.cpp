@@ -40,7 +40,33 @@ Predictor::~Predictor() = default;
 const LabelGrid& Predictor::labels() const { return state_->scene.medium->grid(); }
 size_t Predictor::surfaceVoxelCount() const { return state_->sensor->pixelCount(); }
 
-void Predictor::install(LabelGrid grid) {
+namespace {
+void requireMaterial(const MaterialTable& materials, Label label, Label voidLabel) {
+    if (label != voidLabel && !materials.byLabel[label].defined)
+        throw std::invalid_argument("label " + std::to_string(label) + " is not in the material table");
+}
+}  // namespace
+
+void Predictor::install(LabelGrid grid, bool occupancyChanged) {
+    auto t0 = std::chrono::steady_clock::now();
+    const GridFrame& local = labels().frame();
+    // Grid, lookup tables and majorants: everything that depends on labels.
+    grid.placeCornerAt(local.cornerMin_mm);
+    state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
+    if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
+    // The sensor only depends on which voxels are void.
+    if (occupancyChanged) {
+        std::vector<SurfaceVoxel> surface = labels().surfaceVoxels();
+        if (surface != state_->surfaceVoxels) {
+            state_->surfaceVoxels = std::move(surface);
+            state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, labels().frame(),
+                                                                  state_->surfaceVoxels);
+        }
+    }
+    pendingUpdateSeconds_ += secondsSince(t0);
+}
+
+void Predictor::setLabels(LabelGrid grid) {
     auto t0 = std::chrono::steady_clock::now();
     const LabelGrid& old = labels();
     const GridFrame &a = grid.frame(), &b = old.frame();
@@ -50,29 +76,24 @@ void Predictor::install(LabelGrid grid) {
         throw std::invalid_argument("new labels must lie on the same voxels (frame and void label) as the scene's");
     auto hist = grid.histogram();
     for (int l = 0; l < 256; ++l)
-        if (hist[size_t(l)] && l != grid.voidLabel() && !state_->materials.byLabel[size_t(l)].defined)
-            throw std::invalid_argument("label " + std::to_string(l) + " is not in the material table");
-    // Grid, lookup tables and majorants: everything that depends on labels.
-    grid.placeCornerAt(b.cornerMin_mm);  // the scene's local frame
-    state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
-    if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
-    // The sensor only depends on which voxels are void.
-    std::vector<SurfaceVoxel> surface = labels().surfaceVoxels();
-    if (surface != state_->surfaceVoxels) {
-        state_->surfaceVoxels = std::move(surface);
-        state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, labels().frame(),
-                                                              state_->surfaceVoxels);
-    }
+        if (hist[size_t(l)]) requireMaterial(state_->materials, Label(l), grid.voidLabel());
+    bool occupancyChanged = !grid.hasSameOccupancyTree(old);
     pendingUpdateSeconds_ += secondsSince(t0);
+    install(std::move(grid), occupancyChanged);
 }
-
-void Predictor::setLabels(LabelGrid grid) { install(std::move(grid)); }
 
 void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
     auto t0 = std::chrono::steady_clock::now();
-    LabelGrid next = labels().withChanges(changes);
+    const LabelGrid& old = labels();
+    const Label voidLabel = old.voidLabel();
+    bool occupancyChanged = false;
+    for (const auto& c : changes) {
+        requireMaterial(state_->materials, c.label, voidLabel);
+        occupancyChanged = occupancyChanged || ((old.label(c.voxel) == voidLabel) != (c.label == voidLabel));
+    }
+    LabelGrid next = old.withChanges(changes);
     pendingUpdateSeconds_ += secondsSince(t0);
-    install(std::move(next));
+    install(std::move(next), occupancyChanged);
 }
 
 SurfacePrediction Predictor::predict() {

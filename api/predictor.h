@@ -48,7 +48,8 @@ public:
     size_t surfaceVoxelCount() const;
 
 private:
-    void install(LabelGrid grid);
+    // occupancyChanged: whether any voxel may have turned void or non-void.
+    void install(LabelGrid grid, bool occupancyChanged);
 
     struct State;
     std::unique_ptr<State> state_;

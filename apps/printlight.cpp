@@ -28,6 +28,9 @@ const char* kUsage =
     "  stability [--quick] [-o REPORT.md] [--seed S] [--threads N]\n"
     "         numerical stability suite (stiff and extreme cases, both estimators); writes REPORT.md\n"
     "         (default docs/stability.md if ./docs exists, else stability.md); exit 1 if a case fails\n"
+    "  predict SCENE.json [--iterations N] [--changes K] [--spp N] [--seed S] [--channel r|g|b|rgb] [--threads N]\n"
+    "         runs the prediction API like an optimisation loop (K surface voxels relabelled per\n"
+    "         iteration) and reports the share of an iteration spent outside path tracing\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }
@@ -47,6 +50,7 @@ int main(int argc, char** argv) {
         if (command == "bench") return pl::benchCommand(args);
         if (command == "batch") return pl::batchCommand(args);
         if (command == "stability") return pl::stabilityCommand(args);
+        if (command == "predict") return pl::predictCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::Interrupted&) {
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");

@@ -59,6 +59,10 @@ LabelGrid LabelGrid::withChanges(const std::vector<Change>& changes) const {
     return LabelGrid(frame_, voidLabel_, std::move(tree));
 }
 
+bool LabelGrid::hasSameOccupancyTree(const LabelGrid& other) const {
+    return tree_->vdb->hasSameTopology(*other.tree_->vdb);
+}
+
 Label LabelGrid::label(const Vec3i& v) const {
     if (!frame_.contains(v)) return voidLabel_;
     return tree_->vdb->getValue(toCoord(v));

@@ -37,6 +37,9 @@ public:
         Label label;
     };
     LabelGrid withChanges(const std::vector<Change>& changes) const;
+    // Cheap, conservative: true only if both trees have the same active
+    // (non-void) topology; false may still mean the same void voxels.
+    bool hasSameOccupancyTree(const LabelGrid& other) const;
 
     const GridFrame& frame() const { return frame_; }
     // Moves the grid in the world (the voxels keep their indices).

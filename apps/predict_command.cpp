@@ -1,0 +1,69 @@
+// printlight predict: runs the prediction API the way an optimisation loop
+// does, N iterations that each relabel K random surface voxels, and reports
+// how the time of an iteration splits between the label update (grid,
+// majorants, sensor check) and path tracing.
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "api/predictor.h"
+#include "apps/arguments.h"
+#include "core/progress.h"
+#include "core/rng.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+int predictCommand(const std::vector<std::string>& argv) {
+    Arguments args(argv, {"--iterations", "--changes", "--spp", "--seed", "--threads", "--channel"}, {});
+    if (args.positional().size() != 1) throw UsageError("predict needs exactly one SCENE.json");
+    int iterations = int(args.integer("--iterations", 1, 100000).value_or(5));
+    int changesPerIteration = int(args.integer("--changes", 0, 1 << 24).value_or(1000));
+    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
+    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+
+    auto t0 = std::chrono::steady_clock::now();
+    auto predictor = Predictor::fromSceneFile(args.positional()[0]);
+    if (auto spp = args.integer("--spp", 1, 1 << 24)) predictor->settings().spp = uint32_t(*spp);
+    if (auto seed = args.integer("--seed", 0, INT64_MAX)) predictor->settings().seed = uint64_t(*seed);
+    if (auto ch = args.value("--channel")) {
+        auto channels = parseChannels(*ch);
+        if (!channels) throw UsageError("--channel must be r, g, b or rgb");
+        predictor->settings().channels = *channels;
+    }
+    std::printf("predict: loaded in %.2f s: %zu surface voxels, %s, %u spp\n", secondsSince(t0),
+                predictor->surfaceVoxelCount(), predictor->settings().integrator.c_str(), predictor->settings().spp);
+
+    // The labels the relabelling draws from: those already on the surface.
+    SurfacePrediction p = predictor->predict();
+    std::vector<Label> palette;
+    for (const Vec3i& v : p.voxels) {
+        Label l = predictor->labels().label(v);
+        if (std::find(palette.begin(), palette.end(), l) == palette.end()) palette.push_back(l);
+    }
+    Rng rng = Rng::forPath(predictor->settings().seed, 0, 0, 99);
+    double update = 0, renderTime = 0;
+    std::printf("iteration,update_s,render_s,update_share\n");
+    for (int it = 0; it < iterations; ++it) {
+        std::vector<LabelGrid::Change> changes;
+        for (int k = 0; k < changesPerIteration; ++k) {
+            const Vec3i& v = p.voxels[std::min(p.voxels.size() - 1, size_t(rng.uniform() * p.voxels.size()))];
+            changes.push_back({v, palette[std::min(palette.size() - 1, size_t(rng.uniform() * palette.size()))]});
+        }
+        predictor->settings().seed += 1;
+        predictor->changeLabels(changes);
+        p = predictor->predict();
+        double total = p.updateSeconds + p.renderSeconds;
+        std::printf("%d,%.4f,%.4f,%.4f\n", it + 1, p.updateSeconds, p.renderSeconds, p.updateSeconds / total);
+        update += p.updateSeconds;
+        renderTime += p.renderSeconds;
+    }
+    std::printf("predict: %d iterations: update %.3f s, render %.3f s: update is %.2f %% of an iteration\n", iterations,
+                update, renderTime, 100.0 * update / (update + renderTime));
+    return 0;
+}
+
+}  // namespace pl
