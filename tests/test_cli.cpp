@@ -380,6 +380,18 @@ TEST(Cli, StabilityQuickSuitePasses) {
     EXPECT_EQ(test::countOf(r.out, "FAIL"), 0) << r.out;
 }
 
+TEST(Cli, PredictRunsTheApiLikeALoop) {
+    TestScene s("predict");
+    CliRun r = printlight("predict " + s.write().string() + " --iterations 2 --changes 20 --spp 1 --channel r", s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("iteration,update_s,render_s,update_share"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("2 iterations: update"), std::string::npos) << r.out;
+    s.scene["sensor"] = {{"type", "perspective"}, {"position", {5, 5, 5}}, {"look_at", {1, 1, 1}}, {"resolution", {8, 8}}};
+    r = printlight("predict " + s.write().string(), s.dir);
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.err.find("surface_voxels"), std::string::npos) << r.err;
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);
