@@ -1,6 +1,8 @@
 #include "api/predictor.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "core/progress.h"
@@ -96,10 +98,41 @@ void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
     install(std::move(next), occupancyChanged);
 }
 
+namespace {
+// Whether every rendered channel of pixel p meets the adaptive target.
+bool converged(const Film& film, size_t p, const std::vector<int>& channels, const AdaptiveSampling& a) {
+    for (int c : channels) {
+        float target = std::max(a.maxStandardError, a.maxRelativeError * std::abs(film.mean(p, c)));
+        if (!(film.standardError(p, c) <= target)) return false;
+    }
+    return true;
+}
+}  // namespace
+
 SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
-    RenderResult r = render(state_->scene, *state_->sensor, rs);
+    const Sensor& sensor = *state_->sensor;
+    RenderResult r{Film(sensor.pixelCount()), {}, 0};
+    if (!adaptive_.enabled) {
+        renderSamples(state_->scene, sensor, rs, {}, 0, rs.spp, r);
+    } else {
+        const AdaptiveSampling& a = adaptive_;
+        uint32_t done = std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp);
+        renderSamples(state_->scene, sensor, rs, {}, 0, done, r);
+        // Voxels that stop stay stopped (their film does not change), so all
+        // active voxels share one sample count: rounds are deterministic.
+        while (done < a.maxSpp && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds)) {
+            std::vector<uint32_t> active;
+            for (size_t p = 0; p < sensor.pixelCount(); ++p)
+                if (r.film.samples(p, rs.channels.front()) == done && !converged(r.film, p, rs.channels, a))
+                    active.push_back(uint32_t(p));
+            if (active.empty()) break;
+            uint32_t more = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
+            renderSamples(state_->scene, sensor, rs, active, done, more, r);
+            done += more;
+        }
+    }
     SurfacePrediction p;
     size_t n = state_->sensor->pixelCount();
     p.voxels.reserve(n);

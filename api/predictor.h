@@ -25,6 +25,19 @@ struct SurfacePrediction {
     double renderSeconds = 0;
 };
 
+// Render until every surface voxel's standard error is below a target, in
+// rounds: all voxels get firstRoundSpp, then the voxels not yet there get
+// roundSpp more per round, up to maxSpp (or until maxSeconds).
+struct AdaptiveSampling {
+    bool enabled = false;
+    float maxStandardError = 0;  // absolute target per channel (0: none)
+    float maxRelativeError = 0;  // standard error / mean per channel (0: none)
+    uint32_t firstRoundSpp = 8;  // before this, a standard error is not trusted
+    uint32_t roundSpp = 8;
+    uint32_t maxSpp = 1024;
+    double maxSeconds = 0;  // 0: none; a time budget makes results depend on the machine
+};
+
 class Predictor {
 public:
     // Loads the scene's mesh, materials and labels (sensor must be
@@ -44,6 +57,7 @@ public:
     SurfacePrediction predict();
 
     RenderSettings& settings() { return settings_; }
+    AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
 
@@ -54,6 +68,7 @@ private:
     struct State;
     std::unique_ptr<State> state_;
     RenderSettings settings_;
+    AdaptiveSampling adaptive_;
     double pendingUpdateSeconds_ = 0;
 };
 

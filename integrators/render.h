@@ -31,4 +31,11 @@ struct RenderResult {
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
+// Adds samples [firstSample, firstSample + count) of the listed pixels (all
+// if `pixels` is empty) to result.film, for every channel of the settings.
+// Sample s of pixel p is the same path whichever call renders it, so a
+// render in rounds gives the bits of a render in one go.
+void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                   const std::vector<uint32_t>& pixels, uint32_t firstSample, uint32_t count, RenderResult& result);
+
 }  // namespace pl

@@ -91,6 +91,47 @@ TEST(Predictor, ChangesEqualAWholeGridAndBadUpdatesAreRefused) {
     EXPECT_NE(predictor->surfaceVoxelCount(), n);
 }
 
+TEST(Predictor, AdaptiveSamplingMeetsTheTargetWhereItCan) {
+    auto predictor = Predictor::fromSceneFile(writeScene("adaptive"));
+    predictor->settings().channels = {0};
+    AdaptiveSampling& a = predictor->adaptive();
+    a.enabled = true;
+    a.maxRelativeError = 0.15f;
+    a.firstRoundSpp = 8;
+    a.roundSpp = 8;
+    a.maxSpp = 128;
+    SurfacePrediction p = predictor->predict();
+    uint32_t least = UINT32_MAX, most = 0;
+    uint64_t total = 0;
+    for (size_t i = 0; i < p.radiance.size(); ++i) {
+        uint32_t n = p.samples[i];
+        EXPECT_EQ(n % 8, 0u);
+        EXPECT_GE(n, 8u);
+        EXPECT_TRUE(p.standardError[i][0] <= 0.15f * p.radiance[i][0] || n == 128u)
+            << i << ": " << p.standardError[i][0] << " / " << p.radiance[i][0] << " after " << n;
+        least = std::min(least, n);
+        most = std::max(most, n);
+        total += n;
+    }
+    EXPECT_LT(least, most);                                   // it adapts
+    EXPECT_LT(double(total), 0.9 * 128.0 * p.radiance.size());  // and saves samples
+    // Deterministic, and a voxel that stopped after the first round holds the
+    // bits of a plain 8-spp render (sample s is the same path in any round).
+    SurfacePrediction again = predictor->predict();
+    EXPECT_TRUE(sameBits(p, again));
+    EXPECT_EQ(p.samples, again.samples);
+    a.enabled = false;
+    predictor->settings().spp = 8;
+    SurfacePrediction plain = predictor->predict();
+    size_t compared = 0;
+    for (size_t i = 0; i < p.radiance.size(); ++i)
+        if (p.samples[i] == 8) {
+            EXPECT_EQ(p.radiance[i], plain.radiance[i]);
+            ++compared;
+        }
+    EXPECT_GT(compared, 0u);
+}
+
 size_t residentBytes() {
     std::ifstream statm("/proc/self/statm");
     size_t pages = 0, resident = 0;
