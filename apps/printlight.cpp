@@ -24,7 +24,7 @@ const char* kUsage =
     "  batch MANIFEST.json -o DIR [--compare STORED_DIR] [--threads N] [--seed-offset N]\n"
     "        [--max-outlier-fraction F] [--quiet]\n"
     "         renders every scene of a manifest; with --compare, checks each result against a stored\n"
-    "         one (bit-identical for the same code and seed, else a per-pixel z-test); exit 1 on failure\n"
+    "         one (bit-identical for the same code and seed, else per-pixel t tests and a bias test); exit 1 on failure\n"
     "  stability [--quick] [-o REPORT.md] [--seed S] [--threads N]\n"
     "         numerical stability suite (stiff and extreme cases, both estimators); writes REPORT.md\n"
     "         (default docs/stability.md if ./docs exists, else stability.md); exit 1 if a case fails\n"
