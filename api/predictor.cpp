@@ -49,13 +49,17 @@ void requireMaterial(const MaterialTable& materials, Label label, Label voidLabe
 }
 }  // namespace
 
-void Predictor::install(LabelGrid grid, bool occupancyChanged) {
+void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector<Vec3i>* changed) {
     auto t0 = std::chrono::steady_clock::now();
     const GridFrame& local = labels().frame();
     // Grid, lookup tables and majorants: everything that depends on labels.
     grid.placeCornerAt(local.cornerMin_mm);
-    state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
-    if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
+    if (changed) {  // majorants of the touched bricks only
+        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), *state_->scene.medium, *changed);
+    } else {
+        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
+        if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
+    }
     // The sensor only depends on which voxels are void.
     if (occupancyChanged) {
         std::vector<SurfaceVoxel> surface = labels().surfaceVoxels();
@@ -81,7 +85,7 @@ void Predictor::setLabels(LabelGrid grid) {
         if (hist[size_t(l)]) requireMaterial(state_->materials, Label(l), grid.voidLabel());
     bool occupancyChanged = !grid.hasSameOccupancyTree(old);
     pendingUpdateSeconds_ += secondsSince(t0);
-    install(std::move(grid), occupancyChanged);
+    install(std::move(grid), occupancyChanged, nullptr);
 }
 
 void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
@@ -89,13 +93,16 @@ void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
     const LabelGrid& old = labels();
     const Label voidLabel = old.voidLabel();
     bool occupancyChanged = false;
+    std::vector<Vec3i> voxels;
+    voxels.reserve(changes.size());
     for (const auto& c : changes) {
         requireMaterial(state_->materials, c.label, voidLabel);
         occupancyChanged = occupancyChanged || ((old.label(c.voxel) == voidLabel) != (c.label == voidLabel));
+        voxels.push_back(c.voxel);
     }
     LabelGrid next = old.withChanges(changes);
     pendingUpdateSeconds_ += secondsSince(t0);
-    install(std::move(next), occupancyChanged);
+    install(std::move(next), occupancyChanged, &voxels);
 }
 
 namespace {

@@ -62,8 +62,9 @@ public:
     size_t surfaceVoxelCount() const;
 
 private:
-    // occupancyChanged: whether any voxel may have turned void or non-void.
-    void install(LabelGrid grid, bool occupancyChanged);
+    // occupancyChanged: whether any voxel may have turned void or non-void;
+    // changed: the relabelled voxels (null: the whole grid is new).
+    void install(LabelGrid grid, bool occupancyChanged, const std::vector<Vec3i>* changed);
 
     struct State;
     std::unique_ptr<State> state_;

@@ -13,6 +13,14 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
     offset_ = grid_.frame().worldToCellOffset();
 }
 
+LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed)
+    : grid_(std::move(grid)), materials_(previous.materials_), luts_(previous.luts_), majorants_(previous.majorants_),
+      fields_(previous.fields_) {
+    majorants_.update(grid_, luts_, changed);
+    scale_ = grid_.frame().worldToCellScale();
+    offset_ = grid_.frame().worldToCellOffset();
+}
+
 struct LabelMedium::Sampler::Impl {
     openvdb::tree::ValueAccessor<const LabelTreeType> accessor;
     std::unique_ptr<openvdb::FloatGrid::ConstAccessor> sdf;

@@ -18,6 +18,9 @@ namespace pl {
 class LabelMedium {
 public:
     LabelMedium(LabelGrid grid, MaterialTable materials);
+    // `grid` is `previous`'s grid with the `changed` voxels relabelled: only
+    // their majorant bricks are recomputed (same result as a full build).
+    LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed);
 
     const LabelGrid& grid() const { return grid_; }
     const GridFrame& frame() const { return grid_.frame(); }

@@ -1,5 +1,6 @@
 #include "media/majorant_grid.h"
 
+#include <algorithm>
 #include <limits>
 
 namespace pl {
@@ -63,6 +64,38 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
                 for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], b[i].maxSigmaT[c]);
             }
     bricks_ = std::move(b);
+    computeUniformReach();
+}
+
+void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts,
+                          const std::vector<Vec3i>& changed) {
+    const GridFrame& f = grid.frame();
+    const Vec3i lo = f.indexMin, hi = f.indexMax();
+    std::vector<uint8_t> done(bricks_.size(), 0);
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    for (const Vec3i& v : changed) {
+        if (!f.contains(v)) continue;
+        Vec3i b = brickOf(v);
+        size_t i = brickIndex(b);
+        if (done[i]) continue;
+        done[i] = 1;
+        // The brick's voxels inside the frame, one by one.
+        Bounds x{{-inf, -inf, -inf}, {inf, inf, inf}, -2};
+        for (int z = std::max(lo.z, b.z << kBrickLog2); z < std::min(hi.z, (b.z + 1) << kBrickLog2); ++z)
+            for (int y = std::max(lo.y, b.y << kBrickLog2); y < std::min(hi.y, (b.y + 1) << kBrickLog2); ++y)
+                for (int xx = std::max(lo.x, b.x << kBrickLog2); xx < std::min(hi.x, (b.x + 1) << kBrickLog2); ++xx) {
+                    Label l = grid.label({xx, y, z});
+                    for (int c = 0; c < 3; ++c) {
+                        x.maxSigmaT[c] = std::max(x.maxSigmaT[c], luts[c].sigmaT_perMm[l]);
+                        x.minSigmaT[c] = std::min(x.minSigmaT[c], luts[c].sigmaT_perMm[l]);
+                    }
+                    x.soleLabel = x.soleLabel == -2 || x.soleLabel == int(l) ? int(l) : -1;
+                }
+        bricks_[i] = x;
+    }
+    globalMax_ = {0, 0, 0};
+    for (const Bounds& x : bricks_)
+        for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], x.maxSigmaT[c]);
     computeUniformReach();
 }
 

@@ -19,6 +19,10 @@ public:
 
     MajorantGrid() = default;
     MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts);
+    // After relabelling `changed` voxels of `grid`: recomputes only their
+    // bricks (and the global maximum and uniform reach), with the result of
+    // a full construction.
+    void update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts, const std::vector<Vec3i>& changed);
 
     // Bricks [brickMin, brickMax) cover the grid frame.
     const Vec3i& brickMin() const { return brickMin_; }

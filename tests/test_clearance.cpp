@@ -89,3 +89,53 @@ TEST(MajorantGrid, UniformReachMatchesBruteForce) {
 
 }  // namespace
 }  // namespace pl
+
+namespace pl {
+namespace {
+
+// Updating the bricks of relabelled voxels gives what a full build of the
+// relabelled grid gives: bounds, sole labels, uniform reach, global maximum.
+TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
+    const Vec3i res{45, 37, 29};  // not a multiple of the brick size
+    LabelGrid grid = test::boxGrid(res, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(v.x < 20 ? 4 : 1); });
+    std::array<ChannelLut, 3> luts;
+    for (int c = 0; c < 3; ++c)
+        for (int l = 0; l < 256; ++l) luts[c].sigmaT_perMm[l] = float((l + 1) * (c + 1));
+    MajorantGrid maj(grid, luts);
+    Rng rng = Rng::forPath(11, 0, 0, 0);
+    std::vector<LabelGrid::Change> changes;
+    std::vector<Vec3i> voxels;
+    for (int k = 0; k < 200; ++k) {
+        Vec3i v{int(rng.uniform() * res.x), int(rng.uniform() * res.y), int(rng.uniform() * res.z)};
+        Label l = Label(int(rng.uniform() * 4) == 0 ? test::kTestVoid : int(rng.uniform() * 4));
+        changes.push_back({v, l});
+        voxels.push_back(v);
+    }
+    // Also empty a whole brick's worth, and refill a corner brick with one label.
+    for (int z = 0; z < 8; ++z)
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                changes.push_back({{x + 24, y + 8, z + 8}, test::kTestVoid});
+                changes.push_back({{x, y, z}, Label(2)});
+                voxels.push_back({x + 24, y + 8, z + 8});
+                voxels.push_back({x, y, z});
+            }
+    LabelGrid next = grid.withChanges(changes);
+    maj.update(next, luts, voxels);
+    MajorantGrid full(next, luts);
+    for (int bz = full.brickMin().z; bz < full.brickMax().z; ++bz)
+        for (int by = full.brickMin().y; by < full.brickMax().y; ++by)
+            for (int bx = full.brickMin().x; bx < full.brickMax().x; ++bx) {
+                Vec3i b{bx, by, bz};
+                for (int c = 0; c < 3; ++c) {
+                    EXPECT_EQ(maj.maxSigmaT(b, c), full.maxSigmaT(b, c));
+                    EXPECT_EQ(maj.minSigmaT(b, c), full.minSigmaT(b, c));
+                }
+                EXPECT_EQ(maj.soleLabel(b), full.soleLabel(b)) << bx << " " << by << " " << bz;
+                EXPECT_EQ(maj.uniformReach(b), full.uniformReach(b));
+            }
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(maj.globalMaxSigmaT(c), full.globalMaxSigmaT(c));
+}
+
+}  // namespace
+}  // namespace pl
