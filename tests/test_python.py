@@ -1,0 +1,89 @@
+"""The Python module of the prediction API, run by ctest with Debian's python3:
+shapes and types, determinism, label round trips, changes that change the
+prediction, errors as Python exceptions, adaptive sampling."""
+import sys
+import unittest
+
+import numpy as np
+
+import printlight
+
+SCENE = sys.argv.pop(1)
+
+
+class PredictorTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.p = printlight.Predictor(SCENE)
+        cls.p.spp = 1
+        cls.p.seed = 3
+        cls.p.channels = "g"
+        cls.p.integrator = "volpath"
+
+    def test_prediction_arrays(self):
+        r = self.p.predict()
+        n = self.p.surface_voxel_count
+        self.assertEqual(r["voxels"].shape, (n, 3))
+        self.assertEqual(r["radiance"].shape, (n, 3))
+        self.assertEqual(r["stderr"].shape, (n, 3))
+        self.assertEqual(r["samples"].dtype, np.uint32)
+        self.assertTrue(np.all(r["samples"] == 1))
+        g = r["radiance"][:, 1]
+        self.assertTrue(np.all(np.isfinite(g)))
+        self.assertTrue(0.05 < g.mean() < 1.0, g.mean())   # a printed cube under white light
+        self.assertTrue(np.all(r["radiance"][:, 0] == 0))   # channels not rendered stay 0
+        labels = self.p.labels()
+        v = r["voxels"]
+        lo = np.array(self.p.grid_min)
+        self.assertTrue(np.all(labels[v[:, 2] - lo[2], v[:, 1] - lo[1], v[:, 0] - lo[0]] != self.p.void_label))
+
+    def test_deterministic_and_round_trip(self):
+        a = self.p.predict()
+        b = self.p.predict()
+        self.assertTrue(np.array_equal(a["radiance"], b["radiance"]))
+        self.p.set_labels(self.p.labels())
+        c = self.p.predict()
+        self.assertTrue(np.array_equal(a["radiance"], c["radiance"]))
+
+    def test_changes_change_the_prediction_where_they_are(self):
+        before = self.p.predict()
+        v = before["voxels"][:2000]
+        old = self.p.labels()[v[:, 2], v[:, 1], v[:, 0]].copy()
+        black = np.full(len(v), 3, dtype=np.uint8)
+        self.p.change_labels(v, black)
+        after = self.p.predict()
+        # Blackened surface voxels get darker on average; far voxels barely change.
+        self.assertLess(after["radiance"][:2000, 1].mean(), 0.8 * before["radiance"][:2000, 1].mean())
+        self.p.change_labels(v, old)   # undo
+        self.assertTrue(np.array_equal(self.p.predict()["radiance"], before["radiance"]))
+
+    def test_errors_are_python_exceptions(self):
+        with self.assertRaises(ValueError):
+            self.p.change_labels(np.array([[0, 0, 0]]), np.array([9], dtype=np.uint8))   # no material 9
+        with self.assertRaises(IndexError):
+            self.p.change_labels(np.array([[100000, 0, 0]]), np.array([4], dtype=np.uint8))
+        with self.assertRaises(ValueError):
+            self.p.change_labels(np.zeros((2, 2)), np.zeros(2, dtype=np.uint8))
+        with self.assertRaises(ValueError):
+            self.p.set_labels(np.zeros((2, 2, 2), dtype=np.uint8))
+        with self.assertRaises(ValueError):
+            self.p.channels = "x"
+        with self.assertRaises(RuntimeError):
+            printlight.Predictor("/nonexistent/scene.json")
+
+    def test_adaptive_sampling(self):
+        self.p.set_adaptive(max_relative_error=0.2, first_round_spp=2, round_spp=2, max_spp=8)
+        try:
+            r = self.p.predict()
+        finally:
+            self.p.adaptive_off()
+        s = r["samples"]
+        self.assertTrue(np.all((s >= 2) & (s <= 8) & (s % 2 == 0)))
+        done = s < 8
+        g, e = r["radiance"][:, 1], r["stderr"][:, 1]
+        self.assertTrue(np.all(e[done] <= 0.2 * g[done] + 1e-7))
+        self.assertGreater(s.max(), s.min())
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
