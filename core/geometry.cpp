@@ -2,6 +2,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -140,9 +141,14 @@ Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(s
     rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                               mesh_.positions_mm.data(), 0, sizeof(Point3f),
-                               mesh_.positions_mm.size());
+    // Embree reads the last vertex with a 16-byte load: a buffer of its own
+    // (over-allocated by Embree), not a view of positions_mm, which ends
+    // 4 bytes too early (valgrind: invalid read past the vector).
+    static_assert(sizeof(Point3f) == 3 * sizeof(float), "FLOAT3 vertices");
+    auto* vertices = static_cast<Point3f*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                    sizeof(Point3f), mesh_.positions_mm.size()));
+    if (!vertices) throw std::runtime_error("cannot allocate the Embree vertex buffer");
+    std::copy(mesh_.positions_mm.begin(), mesh_.positions_mm.end(), vertices);
     rtcSetSharedGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                mesh_.indices.data(), 0, 3 * sizeof(uint32_t),
                                mesh_.triangleCount());

@@ -316,7 +316,14 @@ LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> 
     const std::string name = file.string();
     if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");
     std::string ext = lowerExtension(file);
-    Label v = voidLabel.value_or(kDefaultVoidLabel);
+    // A plain branch, not value_or: GCC turns that into a conditional move
+    // reading the unset payload of an empty optional, and valgrind then
+    // reports every voxel comparison with the void label as uninitialised.
+    Label v = kDefaultVoidLabel;
+    if (voidLabel.has_value()) {
+        v = *voidLabel;
+        asm volatile("" ::: "memory");  // keeps the branch a branch
+    }
     if (ext == ".vdb") return loadLabelGridVdb(file, voidLabel);
     if (ext == ".bin") return loadLabelGridBin(file, false, v);
     if (ext == ".gz") return loadLabelGridBin(file, true, v);
