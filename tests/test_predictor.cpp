@@ -140,6 +140,11 @@ size_t residentBytes() {
 }
 
 TEST(Predictor, MemoryStaysFlatOverManyIterations) {
+#if defined(__SANITIZE_ADDRESS__)
+    // ASan keeps freed blocks in quarantine (RSS grows ~60 MB here without a
+    // leak); LeakSanitizer checks for leaks at exit instead.
+    GTEST_SKIP() << "resident set size is not meaningful under AddressSanitizer";
+#endif
     auto predictor = Predictor::fromSceneFile(writeScene("memory"));
     predictor->settings().spp = 1;
     predictor->settings().channels = {0};
