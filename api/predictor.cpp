@@ -12,9 +12,7 @@
 namespace pl {
 
 struct Predictor::State {
-    Scene scene;
-    MaterialTable materials;
-    std::shared_ptr<const VoxelFields> fields;  // sdf/normal for NEE, if the scene has them
+    Scene scene;  // its medium holds the materials and the NEE fields across updates
     std::vector<SurfaceVoxel> surfaceVoxels;
     std::unique_ptr<SurfaceVoxelSensor> sensor;
 };
@@ -25,8 +23,6 @@ Predictor::Predictor(const SceneDescription& desc, const RenderSettings& setting
         throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
     SceneNeeds needs = SceneNeeds::of(settings);
     state_->scene = loadScene(desc, needs);
-    state_->materials = state_->scene.medium->materials();
-    if (state_->scene.medium->hasSurfaceFields()) state_->fields = state_->scene.medium->surfaceFields();
     const LabelGrid& grid = state_->scene.medium->grid();
     state_->surfaceVoxels = grid.surfaceVoxels();
     state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, grid.frame(), state_->surfaceVoxels);
@@ -54,11 +50,13 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     const GridFrame& local = labels().frame();
     // Grid, lookup tables and majorants: everything that depends on labels.
     grid.placeCornerAt(local.cornerMin_mm);
+    const LabelMedium& previous = *state_->scene.medium;
     if (changed) {  // majorants of the touched bricks only
-        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), *state_->scene.medium, *changed);
+        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), previous, *changed);
     } else {
-        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), state_->materials);
-        if (state_->fields) state_->scene.medium->setSurfaceFields(state_->fields);
+        auto next = std::make_unique<LabelMedium>(std::move(grid), previous.materials());
+        next->setSurfaceFields(previous.surfaceFields());
+        state_->scene.medium = std::move(next);
     }
     // The sensor only depends on which voxels are void.
     if (occupancyChanged) {
@@ -82,7 +80,7 @@ void Predictor::setLabels(LabelGrid grid) {
         throw std::invalid_argument("new labels must lie on the same voxels (frame and void label) as the scene's");
     auto hist = grid.histogram();
     for (int l = 0; l < 256; ++l)
-        if (hist[size_t(l)]) requireMaterial(state_->materials, Label(l), grid.voidLabel());
+        if (hist[size_t(l)]) requireMaterial(state_->scene.medium->materials(), Label(l), grid.voidLabel());
     bool occupancyChanged = !grid.hasSameOccupancyTree(old);
     pendingUpdateSeconds_ += secondsSince(t0);
     install(std::move(grid), occupancyChanged, nullptr);
@@ -96,7 +94,7 @@ void Predictor::changeLabels(const std::vector<LabelGrid::Change>& changes) {
     std::vector<Vec3i> voxels;
     voxels.reserve(changes.size());
     for (const auto& c : changes) {
-        requireMaterial(state_->materials, c.label, voidLabel);
+        requireMaterial(state_->scene.medium->materials(), c.label, voidLabel);
         occupancyChanged = occupancyChanged || ((old.label(c.voxel) == voidLabel) != (c.label == voidLabel));
         voxels.push_back(c.voxel);
     }

@@ -78,12 +78,6 @@ void setLabels(Predictor& p, Labels3d dense) {
     p.setLabels(LabelGrid::fromDense(f, labels, p.labels().voidLabel()));
 }
 
-std::string channelsOf(const Predictor& p) {
-    std::string s;
-    for (int c : const_cast<Predictor&>(p).settings().channels) s += "rgb"[c];
-    return s;
-}
-
 }  // namespace
 }  // namespace pl
 
@@ -118,7 +112,7 @@ PYBIND11_MODULE(printlight, m) {
                           if (v != "volpath" && v != "printpt") throw std::invalid_argument("integrator must be volpath or printpt");
                           p.settings().integrator = v;
                       })
-        .def_property("channels", &channelsOf,
+        .def_property("channels", [](Predictor& p) { return channelNames(p.settings().channels); },
                       [](Predictor& p, const std::string& v) {
                           auto ch = parseChannels(v);
                           if (!ch) throw std::invalid_argument("channels must be r, g, b or rgb");

@@ -22,12 +22,6 @@ namespace pl {
 
 namespace {
 
-std::string channelString(const std::vector<int>& channels) {
-    std::string s;
-    for (int c : channels) s += "rgb"[c];
-    return s;
-}
-
 struct JobOutcome {
     double seconds = 0;
     size_t pixels = 0;
@@ -49,8 +43,8 @@ SceneDescription describeJob(const BatchJob& job, uint64_t seedOffset) {
 }
 
 // Compares a fresh result with the stored one of the same name: bit for bit
-// if the code, seed, spp, integrator and channels are the same, else by a
-// per-pixel z-test.
+// if the code, scene, seed, spp, integrator and channels are the same, else
+// statistically (core/result_comparison.h).
 void compareWithStored(const RadianceImage& fresh, size_t pixels, const std::vector<int>& channels,
                        const std::filesystem::path& storedFile, const ComparisonLimits& limits,
                        JobOutcome& out) {
@@ -155,7 +149,7 @@ int batchCommand(const std::vector<std::string>& argv) {
                           {"pixels", std::to_string(out.pixels)},
                           {"spp", std::to_string(desc.render.spp)},
                           {"seed", std::to_string(desc.render.seed)},
-                          {"channels", channelString(desc.render.channels)},
+                          {"channels", channelNames(desc.render.channels)},
                           {"code", code}};
         writeExr(image, dir / (job.name + ".exr"));
         out.seconds = secondsSince(t0);
@@ -180,7 +174,7 @@ int batchCommand(const std::vector<std::string>& argv) {
         const JobOutcome& o = outcomes[j];
         const SceneDescription& d = descs[j];
         csv << manifest.jobs[j].name << ',' << manifest.jobs[j].sceneFile.string() << ',' << d.render.integrator
-            << ',' << d.render.spp << ',' << d.render.seed << ',' << channelString(d.render.channels) << ','
+            << ',' << d.render.spp << ',' << d.render.seed << ',' << channelNames(d.render.channels) << ','
             << o.pixels << ',' << o.seconds << ',' << o.mode << ',' << o.comparison.outlierFraction();
         for (double b : o.comparison.bias) csv << ',' << b;
         for (double z : o.comparison.biasZ) csv << ',' << z;

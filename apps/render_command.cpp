@@ -6,7 +6,6 @@
 #include <cstdio>
 
 #include "apps/arguments.h"
-#include "core/memory_budget.h"
 #include "core/progress.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
@@ -78,10 +77,6 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());
     std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
-    // Film (3 channels of double sums) plus the output images, per pixel.
-    uint64_t pixelBytes = uint64_t(sensor->pixelCount()) * 200 + uint64_t(sensor->imageWidth()) * sensor->imageHeight() * 40;
-    if (auto why = memoryShortfall(pixelBytes, withThousands(sensor->pixelCount()) + " sensor pixels"))
-        throw InputError(desc.sceneFile.string(), *why);
     double setupSeconds = secondsSince(t0);
     const GridFrame& f = scene.medium->frame();
     if (!quiet)
@@ -97,8 +92,7 @@ int renderCommand(const std::vector<std::string>& argv) {
     RenderResult result = render(scene, *sensor, desc.render);
 
     RadianceImage image = filmToImage(result.film, *sensor);
-    std::string channels;
-    for (int c : desc.render.channels) channels += "rgb"[c];
+    std::string channels = channelNames(desc.render.channels);
     image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
                       {"sensor", desc.sensor.type},        {"spp", std::to_string(desc.render.spp)},
                       {"seed", std::to_string(desc.render.seed)}, {"channels", channels}};

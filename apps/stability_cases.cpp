@@ -107,17 +107,15 @@ double zScore(double measured, double stdErr, double expected, double expectedSt
 void judge(StabilityRow& row) {
     row.z = zScore(row.measured, row.stdErr, row.expected, row.expectedStdErr);
     row.pass = std::abs(row.z) < kStabilityZLimit && row.nonFinite == 0;
-    if (row.nonFinite) row.note = "NaN/Inf pixels";
+    auto problem = [&row](const char* what) {
+        row.pass = false;
+        row.note += row.note.empty() ? what : std::string("; ") + what;
+    };
+    if (row.nonFinite) problem("NaN/Inf pixels");
     // Numerical leaks (a ray inside that misses the boundary) are counted as
     // leaving; a handful per million paths is round-off at edges.
-    if (double(row.leaks) > row.maxLeakFraction * double(row.paths) + 1) {
-        row.pass = false;
-        row.note += "leaks above the budget";
-    }
-    if (row.trapped) {
-        row.pass = false;
-        row.note += " trapped paths";
-    }
+    if (double(row.leaks) > row.maxLeakFraction * double(row.paths) + 1) problem("leaks above the budget");
+    if (row.trapped) problem("trapped paths");
 }
 
 // ---- scenes -------------------------------------------------------------
@@ -316,9 +314,9 @@ std::vector<Case> allCases() {
         other("wedge", "as above, albedo 0.9, IOR 1.5", wedge(oneMaterial(24, 0.9), 1.5f),
               topCamera(w / 2, kWedgeDepth / 2, w, 16, 8), 64, false);
         // Where the wedge is thinner than the ray offset (1e-4 mm, x < 0.003 mm:
-        // 0.14 % of these rays) a spawned ray starts beyond the far face and
-        // finds no boundary; it counts as a leak and leaves, as light through a
-        // film that thin would. Budget: four times that share.
+        // 0.14 % of these rays) the far face lies within a spawned ray's tMin,
+        // so the ray finds no boundary; it counts as a leak and leaves, as
+        // light through a film that thin would. Budget: four times that share.
         for (size_t i = cs.size() - 3; i < cs.size(); ++i) cs[i].maxLeakFraction = 4 * 1e-4 / (double(kWedgeSlope) * w);
     }
     // Rays exactly along the grid axes, on voxel faces and edges.

@@ -1,6 +1,7 @@
 // Compares two renders of the same sensor pixel by pixel: exactly (same code,
-// same seed) or statistically, by a z-test on each difference using both
-// results' standard errors (batch regression renders, `printlight batch`).
+// same seed) or statistically, by t tests on each difference using both
+// results' standard errors and a bias test per channel (batch regression
+// renders, `printlight batch`).
 #pragma once
 
 #include <array>
@@ -21,7 +22,8 @@ struct PixelResults {
 struct ComparisonLimits {
     // A pixel value is an outlier if its difference is as unlikely as a
     // normal deviate beyond outlierSigma (6.3e-5 for 4), judged by Welch's t
-    // test: the standard errors come from a few samples each.
+    // test and a pooled-variance t test (see result_comparison.cpp): the
+    // standard errors come from a few samples each.
     double outlierSigma = 4.0;
     double maxOutlierFraction = 1e-3;   // of compared values
     double maxBiasZ = 5.0;              // |mean difference| / its standard error, per channel

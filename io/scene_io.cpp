@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/memory_budget.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/json_util.h"
@@ -20,6 +21,12 @@ std::optional<std::vector<int>> parseChannels(const std::string& s) {
     if (s == "b") return std::vector<int>{2};
     if (s == "rgb") return std::vector<int>{0, 1, 2};
     return std::nullopt;
+}
+
+std::string channelNames(const std::vector<int>& channels) {
+    std::string s;
+    for (int c : channels) s += "rgb"[c];
+    return s;
 }
 
 SceneDescription parseScene(const std::filesystem::path& sceneFile) {
@@ -176,16 +183,25 @@ std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& sc
     CameraPose local = s.pose;  // in the scene's local frame
     local.position_mm = local.position_mm - scene.worldOrigin_mm;
     local.lookAt_mm = local.lookAt_mm - scene.worldOrigin_mm;
-    if (s.type == "perspective")
-        return std::make_unique<PerspectiveSensor>(local, s.fovY_deg, s.width, s.height);
-    if (s.type == "orthographic")
-        return std::make_unique<OrthographicSensor>(local, s.viewWidth_mm, s.width, s.height);
-    const LabelGrid& grid = scene.medium->grid();
-    try {
-        return std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
-    } catch (const std::runtime_error& e) {  // mesh and grid do not match
-        throw InputError(desc.labelsFile.string(), e.what());
+    std::unique_ptr<Sensor> sensor;
+    if (s.type == "perspective") {
+        sensor = std::make_unique<PerspectiveSensor>(local, s.fovY_deg, s.width, s.height);
+    } else if (s.type == "orthographic") {
+        sensor = std::make_unique<OrthographicSensor>(local, s.viewWidth_mm, s.width, s.height);
+    } else {
+        const LabelGrid& grid = scene.medium->grid();
+        try {
+            sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
+        } catch (const std::runtime_error& e) {  // mesh and grid do not match
+            throw InputError(desc.labelsFile.string(), e.what());
+        }
     }
+    // What rendering allocates per pixel: the film (3 channels of double
+    // sums) and the output images.
+    uint64_t pixelBytes = uint64_t(sensor->pixelCount()) * 200 + uint64_t(sensor->imageWidth()) * sensor->imageHeight() * 40;
+    if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor->pixelCount()) + " sensor pixels"))
+        throw InputError(desc.sceneFile.string(), *why);
+    return sensor;
 }
 
 }  // namespace pl

@@ -58,10 +58,13 @@ struct SceneNeeds {
 // what `needs` asks for.
 Scene loadScene(const SceneDescription& desc, SceneNeeds needs = {});
 
-// Builds the sensor (for surface_voxels this enumerates the surface voxels).
+// Builds the sensor (for surface_voxels this enumerates the surface voxels);
+// refuses one whose pixels would not fit in memory.
 std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene);
 
 // Parses "r", "g", "b" or "rgb".
 std::optional<std::vector<int>> parseChannels(const std::string& s);
+// The inverse: {0, 1, 2} -> "rgb", {1} -> "g".
+std::string channelNames(const std::vector<int>& channels);
 
 }  // namespace pl
