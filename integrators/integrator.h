@@ -1,11 +1,13 @@
 // What the render driver asks of an estimator: the radiance arriving along
-// a camera ray, in one colour channel, from one path (or a few branches).
+// a camera ray, in one colour channel or in all three, from one path (or a
+// few branches).
 #pragma once
 
 #include <cstdint>
 
 #include "core/fresnel.h"
 #include "core/rng.h"
+#include "integrators/channel_paths.h"
 #include "integrators/scene.h"
 
 namespace pl {
@@ -43,6 +45,10 @@ public:
     // Radiance arriving along -ray.d at ray.o (a point outside the object).
     virtual float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                      PathStats& stats) const = 0;
+    // All three channels from one path: Hero (the driver draws the hero
+    // channel uniformly) or Spectral sampling (channel_paths.h).
+    virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+                      PathStats& stats) const = 0;
 };
 
 }  // namespace pl

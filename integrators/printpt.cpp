@@ -1,5 +1,7 @@
 #include "integrators/printpt.h"
 
+#include <type_traits>
+
 #include "core/fresnel.h"
 #include "core/sampling.h"
 #include "media/ball_walk.h"
@@ -8,24 +10,40 @@ namespace pl {
 
 float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
+    return trace(ray, SingleChannelPath{&scene_.medium->lut(channel), channel, scene_.environment[channel]}, medium,
+                 rng, stats);
+}
+
+RGB PrintPt::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+                   PathStats& stats) const {
+    if (sampling == ChannelSampling::Spectral)
+        return trace(ray, SpectralPath{&scene_.medium->luts(), scene_.environment}, medium, rng, stats);
+    return trace(ray, HeroPath{&scene_.medium->luts(), scene_.environment, hero}, medium, rng, stats);
+}
+
+template <class Path>
+typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
+                                    PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
-    const float Le = scene_.environment[channel];
+    typename Path::Value L{};
     auto entry = geometry.intersect(ray);
     if (!entry) {
         stats.paths += 1;
-        return Le;
+        path.addLight(L, 1.0f);
+        return L;
     }
     // The camera ray arrives from outside: Fresnel at the entry.
     Vec3f n = dot(ray.d, entry->ng) < 0 ? entry->ns : -entry->ns;
     float F = fresnelDielectric(-dot(ray.d, n), scene_.ior);
-    float L = 0.0f, beta = 1.0f;
+    float transmitted = 1.0f;
     if (options_.fresnelWeighting) {
         // Reflected light leaves at once (no re-entry): it is Le exactly.
-        L += F * Le;
-        beta = 1.0f - F;
+        path.addLight(L, F);
+        transmitted = 1.0f - F;
     } else if (rng.uniform() < F) {
         stats.paths += 1;
-        return Le;
+        path.addLight(L, 1.0f);
+        return L;
     }
     auto t = refract(ray.d, n, scene_.ior);
     Vec3f d = t ? *t : ray.d;
@@ -34,9 +52,19 @@ float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
 
     // Branching: k walks share the camera ray and the entry.
     const int k = std::max(1, options_.branches);
-    float sum = 0.0f;
-    for (int b = 0; b < k; ++b) sum += (this->*walk_)(inside, channel, medium, rng, stats);
-    return L + beta * sum / float(k);
+    const float branchWeight = transmitted / float(k);
+    WalkFunction<Path> walk;
+    if constexpr (std::is_same_v<Path, SingleChannelPath>) walk = walkSingle_;
+    else if constexpr (std::is_same_v<Path, HeroPath>) walk = walkHero_;
+    else walk = walkSpectral_;
+    for (int b = 0; b < k; ++b) {
+        // Each walk starts at throughput 1 (Russian roulette is relative to it).
+        typename Path::Value Lb = (this->*walk)(inside, path, medium, rng, stats);
+        if constexpr (std::is_same_v<typename Path::Value, float>) L += branchWeight * Lb;
+        else
+            for (int c = 0; c < 3; ++c) L[c] += branchWeight * Lb[c];
+    }
+    return L;
 }
 
 PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {
@@ -45,21 +73,29 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     options_.nee = options_.nee && scene_.medium->hasSurfaceFields();
     Vec3f voxel = scene_.medium->frame().voxelSize_mm;
     minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
-    const bool n = options_.nee, m = options_.mediumFirst, f = options_.fresnelWeighting;
-    walk_ = n ? (m ? (f ? &PrintPt::walk<true, true, true> : &PrintPt::walk<true, true, false>)
-                   : (f ? &PrintPt::walk<true, false, true> : &PrintPt::walk<true, false, false>))
-              : (m ? (f ? &PrintPt::walk<false, true, true> : &PrintPt::walk<false, true, false>)
-                   : (f ? &PrintPt::walk<false, false, true> : &PrintPt::walk<false, false, false>));
+    walkSingle_ = selectWalk<SingleChannelPath>();
+    walkHero_ = selectWalk<HeroPath>();
+    walkSpectral_ = selectWalk<SpectralPath>();
 }
 
-template <bool kNee, bool kMediumFirst, bool kFresnelWeighting>
-float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-                    PathStats& stats) const {
+template <class Path>
+PrintPt::WalkFunction<Path> PrintPt::selectWalk() const {
+    const bool m = options_.mediumFirst, f = options_.fresnelWeighting;
+    if constexpr (Path::kSupportsNee) {
+        if (options_.nee)
+            return m ? (f ? &PrintPt::walk<Path, true, true, true> : &PrintPt::walk<Path, true, true, false>)
+                     : (f ? &PrintPt::walk<Path, true, false, true> : &PrintPt::walk<Path, true, false, false>);
+    }
+    return m ? (f ? &PrintPt::walk<Path, false, true, true> : &PrintPt::walk<Path, false, true, false>)
+             : (f ? &PrintPt::walk<Path, false, false, true> : &PrintPt::walk<Path, false, false, false>);
+}
+
+template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
+typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
+                                   PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
-    const ChannelLut& lut = scene_.medium->lut(channel);
-    const float Le = scene_.environment[channel];
     const float etaOut = 1.0f / scene_.ior;
-    float beta = 1.0f, L = 0.0f;
+    typename Path::Value L{};
     int64_t bounces = 0;
     stats.paths += 1;
     const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
@@ -75,8 +111,9 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
             // nothing else, without grid lookups or boundary queries.
             Label label;
             float radius_mm = homogeneousBall(ray.o, label);
-            if (radius_mm * lut.sigmaT_perMm[label] >= options_.ballMinMfp) {
-                if (!walkInBall(ray, radius_mm, label, lut, beta, rng, stats)) return L;
+            if (radius_mm > 0.0f && path.canWalkBall(label) &&
+                radius_mm * path.ballSigmaT(label) >= options_.ballMinMfp) {
+                if (!walkInBall(ray, radius_mm, label, path, rng, stats)) return L;
                 bounces = 0;
                 hitWeight = 1.0f;
                 continue;
@@ -86,17 +123,18 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         FreeFlight ff;
         std::optional<SurfaceHit> hit;
         if constexpr (kMediumFirst) {
-            ff = medium.sampleFreeFlight(ray, 1e30f, channel, rng);
+            ff = path.track(medium, ray, 1e30f, rng);
             // A collision nearer than the boundary can be needs no query.
             deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
             if (!deep) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersect(ray);
-            if (hit) ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);
+            if (hit) ff = path.track(medium, ray, hit->t, rng);
         }
         if (!hit && !(kMediumFirst && ff.scattered)) {
             stats.leaks += 1;  // left an open mesh: count it, treat as leaving
-            return L + beta * Le;
+            path.addLight(L, 1.0f);
+            return L;
         }
         // Medium first: the boundary query only reached the collision, so a
         // hit means the boundary comes first. Geometry first: the tracking
@@ -105,20 +143,22 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         if (boundaryFirst && dot(ray.d, hit->ng) < 0) {
             // Round-off put the ray outside, facing the surface: it leaves.
             stats.leaks += 1;
-            return L + beta * Le;
+            path.addLight(L, 1.0f);
+            return L;
         }
 
         if (!boundaryFirst) {
             // Scattering: weight by the albedo, Russian roulette, phase sampling.
             stats.scatterEvents += 1;
             bounces = 0;
-            beta *= lut.albedo[ff.label];
-            if (!survivesRoulette(beta, rng)) return L;
+            path.collide(ff.label);
+            if (!survivesRoulette(path, rng)) return L;
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
-            if constexpr (kNee) L += beta * nextEvent(x, ray.d, ff.label, channel, medium, rng, lobe);
+            if constexpr (kNee) path.addLight(L, nextEvent(x, ray.d, ff.label, path.channel, medium, rng, lobe));
             float u0 = rng.uniform(), u1 = rng.uniform();
-            PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
+            PhaseSample ps = sampleHG(ray.d, path.g(ff.label), u0, u1);
+            path.phaseSampled(ff.label, dot(ray.d, ps.dOut), ps.pdf);
             hitWeight = 1.0f;
             if (lobe.kappa > 0) {
                 float pv = lobe.probability * vmfPdf(lobe.axis, lobe.kappa, ps.dOut);
@@ -136,11 +176,12 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
         Vec3f n = -hit->ns;  // facing against the ray
         float F = fresnelDielectric(-dot(ray.d, n), etaOut);
         if constexpr (kFresnelWeighting) {
-            L += hitWeight * beta * (1.0f - F) * Le;  // the transmitted part leaves for good
-            beta *= F;
-            if (beta <= 0.0f) return L;
+            path.addLight(L, hitWeight * (1.0f - F));  // the transmitted part leaves for good
+            path.scale(F);
+            if (!path.alive()) return L;
         } else if (!(rng.uniform() < F)) {
-            return L + hitWeight * beta * Le;
+            path.addLight(L, hitWeight);
+            return L;
         }
         hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
         Vec3f r = reflectOnSide(ray.d, *hit);
@@ -149,11 +190,12 @@ float PrintPt::walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng
     }
 }
 
-bool PrintPt::survivesRoulette(float& beta, Rng& rng) const {
-    float q = std::min(options_.rrCap, beta / options_.rrThreshold);
+template <class Path>
+bool PrintPt::survivesRoulette(Path& path, Rng& rng) const {
+    float q = std::min(options_.rrCap, path.rouletteValue() / options_.rrThreshold);
     if (q >= 1.0f) return true;
     if (!(rng.uniform() < q)) return false;
-    beta /= q;
+    path.scale(1.0f / q);
     return true;
 }
 
@@ -169,10 +211,17 @@ float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
     return std::min(float(reach) * minBrickEdge_mm_, scene_.clearance->at(p));
 }
 
-bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, const ChannelLut& lut, float& beta, Rng& rng,
-                         PathStats& stats) const {
-    BallWalk b = pl::walkInBall(ray.d, radius_mm, lut.sigmaT_perMm[label], lut.albedo[label], lut.g[label], beta,
-                                [&](float& x) { return survivesRoulette(x, rng); }, rng);
+template <class Path>
+bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng& rng, PathStats& stats) const {
+    BallWalk b = pl::walkInBall(ray.d, radius_mm, path.ballSigmaT(label), path.g(label),
+                                [&](float flight_mm) {
+                                    path.ballFlight(label, flight_mm);
+                                    path.ballCollision(label);
+                                    path.collide(label);
+                                    return survivesRoulette(path, rng);
+                                },
+                                rng);
+    path.ballFlight(label, b.lastFlight_mm);
     stats.scatterEvents += uint64_t(b.collisions);
     stats.ballEvents += uint64_t(b.collisions);
     ray = {ray.o + b.exit, b.direction};
@@ -204,7 +253,7 @@ float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int ch
     // probability that it ran at all.
     float pNee = lobe.probability * ds.pdf;
     float misWeight = pNee / (pNee + phase);
-    return misWeight * phase * T * (1.0f - F) * scene_.environment[channel] / pNee;
+    return misWeight * phase * T * (1.0f - F) / pNee;
 }
 
 }  // namespace pl

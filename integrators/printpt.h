@@ -58,14 +58,28 @@ public:
 
     float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
              PathStats& stats) const override;
+    // One path for three channels: as Li, without next-event estimation
+    // (single-channel only), and with ball walks for hero sampling only.
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+              PathStats& stats) const override;
 
 private:
+    // Camera ray to entry, Fresnel there, and the branches' walks.
+    template <class Path>
+    typename Path::Value trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
+                               PathStats& stats) const;
     // Radiance leaving the object back along -ray.d, for a ray that starts
-    // inside, with throughput 1.
-    template <bool kNee, bool kMediumFirst, bool kFresnelWeighting>
-    float walk(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    // inside, with the path's throughput.
+    template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
+    typename Path::Value walk(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    template <class Path>
+    using WalkFunction = typename Path::Value (PrintPt::*)(Ray, Path, LabelMedium::Sampler&, Rng&, PathStats&) const;
+    // The walk compiled for the scene's switches.
+    template <class Path>
+    WalkFunction<Path> selectWalk() const;
     // Russian roulette on the throughput; false: the walk ends.
-    bool survivesRoulette(float& beta, Rng& rng) const;
+    template <class Path>
+    bool survivesRoulette(Path& path, Rng& rng) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
@@ -73,13 +87,15 @@ private:
     // holds only label: collisions without lookups or boundary queries,
     // until a free flight would leave the ball; ray becomes the point where
     // it crosses the sphere, with its direction. False if the walk ended.
-    bool walkInBall(Ray& ray, float radius_mm, Label label, const ChannelLut& lut, float& beta, Rng& rng,
-                    PathStats& stats) const;
-    using WalkFunction = float (PrintPt::*)(Ray, int, LabelMedium::Sampler&, Rng&, PathStats&) const;
-    WalkFunction walk_;
+    template <class Path>
+    bool walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng& rng, PathStats& stats) const;
+    WalkFunction<SingleChannelPath> walkSingle_;
+    WalkFunction<HeroPath> walkHero_;
+    WalkFunction<SpectralPath> walkSpectral_;
     float minBrickEdge_mm_ = 0;
     // Light leaving the object straight from x towards the nearest surface,
-    // MIS-weighted against phase sampling. Sets the lobe for later weights.
+    // MIS-weighted against phase sampling, per unit environment radiance.
+    // Sets the lobe for later weights.
     struct Lobe {
         Vec3f axis;
         float kappa = 0;        // 0: no lobe (no NEE at this vertex)

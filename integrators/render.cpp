@@ -17,22 +17,34 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     else integrator = std::make_unique<VolPath>(scene, settings.volpath);
 
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
-    ProgressBar progress(uint64_t(n) * settings.channels.size(), "rendering", settings.showProgress);
+    const bool onePass = rendersChannelsInOnePass(settings);
+    // Passes: one per channel, or one (marked -1) for all three.
+    const std::vector<int> passes = onePass ? std::vector<int>{-1} : settings.channels;
+    ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
     std::mutex statsMutex;
-    // One pass per channel (Brecka renders R, G and B as separate images).
-    for (int channel : settings.channels) {
+    for (int channel : passes) {
         parallelForTiles(n, 64, [&](size_t begin, size_t end) {
             LabelMedium::Sampler medium(*scene.medium);
             PathStats stats;
             for (size_t i = begin; i < end; ++i) {
                 size_t p = pixels.empty() ? i : pixels[i];
+                // Hero channels go round the samples from a random start per
+                // pixel (independent of the paths): each sample's hero is
+                // uniform, and every three samples of a pixel have all three.
+                const uint32_t heroOffset = uint32_t(mix64(mix64(settings.seed ^ 0x6865726fULL) ^ p) % 3);
                 for (uint32_t s = firstSample; s < firstSample + count; ++s) {
                     if (interruptRequested()) return;  // Ctrl-C: the film is discarded by the caller
-                    // The path's random stream depends only on (seed, pixel, sample, channel).
-                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
+                    // The path's random stream depends only on (seed, pixel, sample, channel or 3 for all).
+                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel < 0 ? 3 : channel));
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
-                    result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
+                    if (channel >= 0) {
+                        result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
+                    } else {
+                        int hero = int((s + heroOffset) % 3);
+                        RGB L = integrator->LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
+                        for (int c = 0; c < 3; ++c) result.film.add(p, c, L[c]);
+                    }
                 }
             }
             progress.advance(end - begin);
@@ -43,6 +55,13 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     throwIfInterrupted();
     progress.finish();
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool rendersChannelsInOnePass(const RenderSettings& settings) {
+    if (settings.channelSampling == ChannelSampling::Separate || settings.channels.size() != 3) return false;
+    bool seen[3] = {false, false, false};
+    for (int c : settings.channels) seen[c] = true;
+    return seen[0] && seen[1] && seen[2];
 }
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {

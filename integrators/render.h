@@ -1,5 +1,7 @@
 // The render driver: runs an integrator for every sensor pixel, sample and
-// channel on the tile scheduler, and accumulates a Film.
+// channel on the tile scheduler, and accumulates a Film. All three channels
+// come from one path per sample unless channelSampling is Separate (or the
+// render asks for fewer channels): then one pass per channel.
 #pragma once
 
 #include <string>
@@ -17,7 +19,9 @@ struct RenderSettings {
     std::string integrator = "volpath";  // volpath | printpt
     uint32_t spp = 16;
     uint64_t seed = 1;
-    std::vector<int> channels{0, 1, 2};  // one pass per channel, in this order
+    std::vector<int> channels{0, 1, 2};  // rendered channels
+    // How all three channels are sampled (a subset is always one pass per channel).
+    ChannelSampling channelSampling = ChannelSampling::Hero;
     VolPathOptions volpath;
     PrintPtOptions printpt;
     bool showProgress = false;
@@ -35,6 +39,9 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
 // if `pixels` is empty) to result.film, for every channel of the settings.
 // Sample s of pixel p is the same path whichever call renders it, so a
 // render in rounds gives the bits of a render in one go.
+// True if the render takes all three channels from one path per sample.
+bool rendersChannelsInOnePass(const RenderSettings& settings);
+
 void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                    const std::vector<uint32_t>& pixels, uint32_t firstSample, uint32_t count, RenderResult& result);
 

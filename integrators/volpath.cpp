@@ -7,11 +7,23 @@ namespace pl {
 
 float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
+    SingleChannelPath path{&scene_.medium->lut(channel), channel, scene_.environment[channel]};
+    return trace(ray, path, medium, rng, stats);
+}
+
+RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+                   PathStats& stats) const {
+    if (sampling == ChannelSampling::Spectral)
+        return trace(ray, SpectralPath{&scene_.medium->luts(), scene_.environment}, medium, rng, stats);
+    return trace(ray, HeroPath{&scene_.medium->luts(), scene_.environment, hero}, medium, rng, stats);
+}
+
+template <class Path>
+typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
+                                    PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
-    const ChannelLut& lut = scene_.medium->lut(channel);
-    const float Le = scene_.environment[channel];
     const float lift = geometry.surfaceLift_mm();
-    float beta = 1.0f;          // path throughput
+    typename Path::Value L{};   // radiance gathered (only at the end of the path)
     int64_t depth = 0;          // scattering events
     int64_t bounces = 0;        // boundary events since the last scattering event
     bool spawnedInside = false; // only for counting numerical leaks
@@ -24,25 +36,28 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
         auto hit = geometry.intersect(ray);
         if (!hit) {
             if (spawnedInside) stats.leaks += 1;
-            return beta * Le;  // escapes to the environment
+            path.addLight(L, 1.0f);  // escapes to the environment
+            return L;
         }
         bool fromInside = dot(ray.d, hit->ng) > 0;
 
         if (fromInside) {
             // Medium: delta tracking up to the boundary.
-            FreeFlight ff = medium.sampleFreeFlight(ray, hit->t, channel, rng);
+            FreeFlight ff = path.track(medium, ray, hit->t, rng);
             if (ff.scattered) {
                 // Real collision: absorb by throughput Russian roulette.
                 stats.scatterEvents += 1;
                 bounces = 0;
-                beta *= lut.albedo[ff.label];
-                if (beta < 1.0f) {
-                    if (rng.uniform() >= beta) return 0.0f;
-                    beta = 1.0f;
+                path.collide(ff.label);
+                float q = path.rouletteValue();
+                if (q < 1.0f) {
+                    if (!(rng.uniform() < q)) return L;
+                    path.scale(1.0f / q);
                 }
-                if (options_.maxDepth >= 0 && ++depth > options_.maxDepth) return 0.0f;
+                if (options_.maxDepth >= 0 && ++depth > options_.maxDepth) return L;
                 float u0 = rng.uniform(), u1 = rng.uniform();
-                PhaseSample ps = sampleHG(ray.d, lut.g[ff.label], u0, u1);
+                PhaseSample ps = sampleHG(ray.d, path.g(ff.label), u0, u1);
+                path.phaseSampled(ff.label, dot(ray.d, ps.dOut), ps.pdf);
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
                 // (By the surface lift only: a rayEpsilon here would move
@@ -59,7 +74,7 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
         // long run without scattering; it never reaches the environment.
         if (++bounces > kMaxBoundaryBounces) {
             stats.trapped += 1;
-            return 0.0f;
+            return L;
         }
 
         // Smooth dielectric: reflect with probability F (1 under total
@@ -70,7 +85,10 @@ float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
         bool reflected = rng.uniform() < F;
         bool nowOutside = fromInside != reflected;
         // Without re-entry, light that leaves the object is done.
-        if (nowOutside && !options_.reentry) return beta * Le;
+        if (nowOutside && !options_.reentry) {
+            path.addLight(L, 1.0f);
+            return L;
+        }
         Vec3f d;
         if (reflected) {
             d = reflectOnSide(ray.d, *hit);

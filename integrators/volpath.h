@@ -21,8 +21,13 @@ public:
 
     float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
              PathStats& stats) const override;
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+              PathStats& stats) const override;
 
 private:
+    template <class Path>
+    typename Path::Value trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+
     const Scene& scene_;
     VolPathOptions options_;
 };

@@ -17,15 +17,16 @@ namespace pl {
 struct BallWalk {
     Vec3f exit;               // crossing point relative to the centre (mm)
     Vec3f direction;          // direction of travel there
+    float lastFlight_mm = 0;  // from the last collision (or the centre) to the exit
     int64_t collisions = 0;   // scattering events inside the ball
     bool alive = true;        // false: Russian roulette ended the walk
 };
 
-// beta is multiplied by the albedo at each collision, after which
-// survives(beta) plays Russian roulette (and may rescale beta).
-template <class Roulette>
-BallWalk walkInBall(const Vec3f& w0, float radius_mm, float sigmaT_perMm, float albedo, float g, float& beta,
-                    Roulette&& survives, Rng& rng) {
+// collide(flight_mm) is called at each collision with the free flight that
+// reached it; it weights the path (albedo, Russian roulette) and returns
+// false if the walk ends there.
+template <class Collide>
+BallWalk walkInBall(const Vec3f& w0, float radius_mm, float sigmaT_perMm, float g, Collide&& collide, Rng& rng) {
     const float invSigmaT = 1.0f / sigmaT_perMm, r2 = radius_mm * radius_mm;
     BallWalk out;
     Vec3f p(0, 0, 0), w = w0;
@@ -35,8 +36,7 @@ BallWalk walkInBall(const Vec3f& w0, float radius_mm, float sigmaT_perMm, float 
         if (dot(q, q) >= r2) break;
         p = q;
         out.collisions += 1;
-        beta *= albedo;
-        if (!survives(beta)) {
+        if (!collide(t)) {
             out.alive = false;
             return out;
         }
@@ -47,6 +47,7 @@ BallWalk walkInBall(const Vec3f& w0, float radius_mm, float sigmaT_perMm, float 
     float b = dot(p, w), c = dot(p, p) - r2;
     float s = -b + std::sqrt(std::max(0.0f, b * b - c));
     out.exit = p + w * s;
+    out.lastFlight_mm = s;
     out.direction = w;
     return out;
 }

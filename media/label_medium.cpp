@@ -59,6 +59,19 @@ FreeFlight LabelMedium::Sampler::sampleFreeFlight(const Ray& ray, float tMax_mm,
                       [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
 }
 
+FreeFlight LabelMedium::Sampler::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,
+                                                      RGB& logRatio) {
+    auto& acc = impl_->accessor;
+    return heroDeltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_, hero,
+                          [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng, logRatio);
+}
+
+FreeFlight LabelMedium::Sampler::sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight) {
+    auto& acc = impl_->accessor;
+    return spectralTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_,
+                         [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng, weight);
+}
+
 float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel) {
     auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,

@@ -27,6 +27,7 @@ public:
     const MaterialTable& materials() const { return materials_; }
     const MajorantGrid& majorants() const { return majorants_; }
     const ChannelLut& lut(int channel) const { return luts_[channel]; }
+    const std::array<ChannelLut, 3>& luts() const { return luts_; }
     // Distance and normal fields of a prepared grid (optional; next-event
     // estimation towards the surface needs them).
     void setSurfaceFields(std::shared_ptr<const VoxelFields> fields) { fields_ = std::move(fields); }
@@ -49,6 +50,10 @@ public:
 
         // Delta tracking along the ray up to tMax_mm.
         FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
+        // Three channels at once (see trackers.h): delta tracking for the
+        // hero channel with log pdf ratios of the others, or spectral tracking.
+        FreeFlight sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng, RGB& logRatio);
+        FreeFlight sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight);
         // Exact transmittance by regular tracking along the ray up to tMax_mm.
         float transmittance(const Ray& ray, float tMax_mm, int channel);
         Label labelAt(const Vec3i& voxel);

@@ -29,6 +29,7 @@ public:
     const Vec3i& brickMax() const { return brickMax_; }
     float maxSigmaT(const Vec3i& brick, int channel) const { return at(brick).maxSigmaT[channel]; }
     float minSigmaT(const Vec3i& brick, int channel) const { return at(brick).minSigmaT[channel]; }
+    const RGB& maxSigmaT(const Vec3i& brick) const { return at(brick).maxSigmaT; }
     // The label of every voxel of the brick, or -1 if it holds several:
     // trackers need no grid lookup in a one-label brick.
     int soleLabel(const Vec3i& brick) const { return at(brick).soleLabel; }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 
 #include "core/rgb.h"
@@ -34,6 +35,7 @@ struct ChannelLut {
     std::array<float, 256> sigmaT_perMm{};
     std::array<float, 256> albedo{};
     std::array<float, 256> g{};
+    std::array<float, 256> logSigmaT{};  // log(sigma_t), -inf where 0 (hero-channel pdf ratios)
 
     // The void label is vacuum unless the table defines it.
     static ChannelLut build(const MaterialTable& table, Label voidLabel, int channel) {
@@ -46,6 +48,7 @@ struct ChannelLut {
             lut.g[l] = m.g[channel];
         }
         if (!table.byLabel[voidLabel].defined) lut.sigmaT_perMm[voidLabel] = 0.0f;
+        for (int l = 0; l < 256; ++l) lut.logSigmaT[l] = std::log(lut.sigmaT_perMm[l]);
         return lut;
     }
 };

@@ -8,6 +8,7 @@
 // the OpenVDB accessor (label_medium.cpp) or a dense array (tests).
 #pragma once
 
+#include <array>
 #include <cmath>
 
 #include "core/rng.h"
@@ -40,44 +41,14 @@ inline Vec3i clampToBox(Vec3i v, const Vec3i& lo, const Vec3i& hiExcl) {
     return v;
 }
 
-template <class LabelLookup>
-FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
-                      const MajorantGrid& maj, const ChannelLut& lut, int channel,
-                      LabelLookup&& labelAt, Rng& rng) {
+// Runs trackBrick(brick, tStart, tEnd, out) over the majorant bricks the ray
+// crosses up to tMax_mm, in order, until it reports a collision (free flights
+// are memoryless: restarting at a brick's entry is exact).
+template <class TrackBrick>
+FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                       TrackBrick&& trackBrick) {
     const Vec3i fmax = frame.indexMax();
     constexpr int kB = MajorantGrid::kBrickSize;
-    // Tentative collisions at the brick's majorant over [tStart, tEnd),
-    // accepted with sigma_t / majorant (always, in a uniform brick).
-    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) {
-        float sigmaMaj = maj.maxSigmaT(brick, channel);
-        if (sigmaMaj <= 0.0f) return false;  // nothing to collide with
-        const float invMaj = 1.0f / sigmaMaj;
-        const int sole = maj.soleLabel(brick);
-        if (sole >= 0) {
-            // One material: every tentative collision is real, no lookup.
-            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
-            if (t >= tEnd) return false;
-            out = {true, t, Label(sole)};
-            return true;
-        }
-        const bool uniform = sigmaMaj == maj.minSigmaT(brick, channel);
-        // Voxels of this brick inside the frame: round-off must not leave it.
-        Vec3i lo{brick.x * kB, brick.y * kB, brick.z * kB};
-        Vec3i hi{std::min(lo.x + kB, fmax.x), std::min(lo.y + kB, fmax.y), std::min(lo.z + kB, fmax.z)};
-        lo = {std::max(lo.x, frame.indexMin.x), std::max(lo.y, frame.indexMin.y),
-              std::max(lo.z, frame.indexMin.z)};
-        float t = tStart;
-        for (;;) {
-            // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
-            t -= std::log(1.0f - rng.uniform()) * invMaj;
-            if (t >= tEnd) return false;
-            Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
-            if (uniform || rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) {
-                out = {true, t, l};
-                return true;
-            }
-        }
-    };
     FreeFlight ff;
     float tFrom = 0.0f;
     if (ray.o.x >= frame.indexMin.x && ray.o.y >= frame.indexMin.y && ray.o.z >= frame.indexMin.z &&
@@ -97,8 +68,6 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
         if (tExit >= tMax_mm) return {};
         tFrom = std::max(0.0f, tExit);
     }
-    // The rest brick by brick, inside the frame (free flights are
-    // memoryless: restarting at a brick's entry is exact).
     float t0 = tFrom, t1 = tMax_mm;
     if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t1)) return {};
     constexpr float b = 1.0f / kB;
@@ -107,6 +76,178 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
     while (bricks.next(seg))
         if (trackBrick(seg.cell, seg.t0, seg.t1, ff)) return ff;
     return {};
+}
+
+// The voxels of a brick inside the frame, [lo, hi): round-off must not
+// take a lookup out of the brick.
+inline void brickVoxels(const Vec3i& brick, const GridFrame& frame, Vec3i& lo, Vec3i& hi) {
+    constexpr int kB = MajorantGrid::kBrickSize;
+    const Vec3i fmax = frame.indexMax();
+    lo = {std::max(brick.x * kB, frame.indexMin.x), std::max(brick.y * kB, frame.indexMin.y),
+          std::max(brick.z * kB, frame.indexMin.z)};
+    hi = {std::min(brick.x * kB + kB, fmax.x), std::min(brick.y * kB + kB, fmax.y),
+          std::min(brick.z * kB + kB, fmax.z)};
+}
+
+template <class LabelLookup>
+FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
+                      const MajorantGrid& maj, const ChannelLut& lut, int channel,
+                      LabelLookup&& labelAt, Rng& rng) {
+    // Tentative collisions at the brick's majorant over [tStart, tEnd),
+    // accepted with sigma_t / majorant (always, in a uniform brick).
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) {
+        float sigmaMaj = maj.maxSigmaT(brick, channel);
+        if (sigmaMaj <= 0.0f) return false;  // nothing to collide with
+        const float invMaj = 1.0f / sigmaMaj;
+        const int sole = maj.soleLabel(brick);
+        if (sole >= 0) {
+            // One material: every tentative collision is real, no lookup.
+            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
+            out = {true, t, Label(sole)};
+            return true;
+        }
+        const bool uniform = sigmaMaj == maj.minSigmaT(brick, channel);
+        Vec3i lo, hi;
+        brickVoxels(brick, frame, lo, hi);
+        float t = tStart;
+        for (;;) {
+            // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
+            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
+            Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
+            if (uniform || rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) {
+                out = {true, t, l};
+                return true;
+            }
+        }
+    };
+    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+}
+
+// Hero-channel delta tracking for three channels at once: distances are
+// sampled with the hero channel's majorants, as deltaTrack would, and
+// logRatio[c] += log(p_c / p_hero) of what was sampled, where p_c is the
+// density with which channel c's own delta tracking would have taken the
+// same tentative collisions, null choices and real collision (or passed
+// the segment without one). The per-event ratios are accumulated in log
+// space: a path of hundreds of events would underflow a product of pdfs.
+template <class LabelLookup>
+FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                          const std::array<ChannelLut, 3>& luts, int hero, LabelLookup&& labelAt, Rng& rng,
+                          RGB& logRatio) {
+    const ChannelLut& heroLut = luts[hero];
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) {
+        const RGB& sigmaMaj = maj.maxSigmaT(brick);
+        const float heroMaj = sigmaMaj[hero];
+        // Channel c would have taken no tentative collision over [tStart, t).
+        auto flew = [&](float t) {
+            for (int c = 0; c < 3; ++c) logRatio[c] -= (sigmaMaj[c] - heroMaj) * (t - tStart);
+        };
+        if (heroMaj <= 0.0f) {
+            flew(tEnd);
+            return false;
+        }
+        const float invMaj = 1.0f / heroMaj;
+        const int sole = maj.soleLabel(brick);
+        if (sole >= 0) {
+            // One material: the majorants are its sigma_t, every collision is real.
+            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) {
+                flew(tEnd);
+                return false;
+            }
+            flew(t);
+            for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[sole] - heroLut.logSigmaT[sole];
+            out = {true, t, Label(sole)};
+            return true;
+        }
+        Vec3i lo, hi;
+        brickVoxels(brick, frame, lo, hi);
+        // Null collisions' ratios sigma_n,c / sigma_n,hero, folded into the
+        // logs when the brick is done (or before the product could overflow).
+        std::array<double, 3> nullRatio{1, 1, 1};
+        bool nulls = false;
+        auto foldNulls = [&] {
+            if (!nulls) return;
+            for (int c = 0; c < 3; ++c) logRatio[c] += float(std::log(nullRatio[c]));
+            nullRatio = {1, 1, 1};
+            nulls = false;
+        };
+        float t = tStart;
+        for (;;) {
+            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) {
+                flew(tEnd);
+                foldNulls();
+                return false;
+            }
+            Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
+            const float heroSigma = heroLut.sigmaT_perMm[l];
+            if (rng.uniform() * heroMaj < heroSigma) {
+                flew(t);
+                foldNulls();
+                for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[l] - heroLut.logSigmaT[l];
+                out = {true, t, l};
+                return true;
+            }
+            // Null collision: heroMaj > heroSigma here.
+            const float heroNull = heroMaj - heroSigma;
+            for (int c = 0; c < 3; ++c) nullRatio[c] *= double(sigmaMaj[c] - luts[c].sigmaT_perMm[l]) / heroNull;
+            nulls = true;
+            for (int c = 0; c < 3; ++c)
+                if (nullRatio[c] > 1e100) foldNulls();  // rare: keep the product finite
+        }
+    };
+    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+}
+
+// Spectral tracking (Kutz et al. 2017) for three channels at once: one
+// majorant, the largest of the channels', and at each tentative collision a
+// real or a null event chosen with the history-aware probabilities
+// P_real ~ max_c |w_c sigma_t,c|, P_null ~ max_c |w_c sigma_n,c|; the
+// channel weights w (the path throughput) take sigma / (majorant P) of the
+// event. (Absorption stays in the caller's albedo weight.)
+template <class LabelLookup>
+FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                         const std::array<ChannelLut, 3>& luts, LabelLookup&& labelAt, Rng& rng, RGB& weight) {
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) {
+        const RGB& brickMaj = maj.maxSigmaT(brick);
+        const float sigmaMaj = std::max(brickMaj[0], std::max(brickMaj[1], brickMaj[2]));
+        if (sigmaMaj <= 0.0f) return false;
+        const float invMaj = 1.0f / sigmaMaj;
+        const int sole = maj.soleLabel(brick);
+        Vec3i lo, hi;
+        if (sole < 0) brickVoxels(brick, frame, lo, hi);
+        float t = tStart;
+        for (;;) {
+            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
+            Label l = sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), lo, hi));
+            RGB sigma{luts[0].sigmaT_perMm[l], luts[1].sigmaT_perMm[l], luts[2].sigmaT_perMm[l]};
+            float pReal = 0.0f, pNull = 0.0f;
+            for (int c = 0; c < 3; ++c) {
+                pReal = std::max(pReal, std::abs(weight[c] * sigma[c]));
+                pNull = std::max(pNull, std::abs(weight[c] * (sigmaMaj - sigma[c])));
+            }
+            const float pSum = pReal + pNull;
+            if (!(pSum > 0.0f)) {
+                // Nothing left to carry: end here as a real collision of weight 0.
+                weight = {0, 0, 0};
+                out = {true, t, l};
+                return true;
+            }
+            if (rng.uniform() * pSum < pReal) {
+                const float scale = pSum / (sigmaMaj * pReal);
+                for (int c = 0; c < 3; ++c) weight[c] *= sigma[c] * scale;
+                out = {true, t, l};
+                return true;
+            }
+            const float scale = pSum / (sigmaMaj * pNull);
+            for (int c = 0; c < 3; ++c) weight[c] *= (sigmaMaj - sigma[c]) * scale;
+        }
+    };
+    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
 }
 
 template <class LabelLookup>

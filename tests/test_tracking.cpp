@@ -176,7 +176,6 @@ TEST(BallWalk, MatchesDeltaTrackingStoppedAtTheSphere) {
     LabelMedium::Sampler sampler(medium);
     const Point3f center{1.5f, 1.5f, 1.5f};
     const Vec3f w0 = normalize(Vec3f(0.3f, -0.5f, 0.8f));
-    auto noRoulette = [](float&) { return true; };
 
     struct Moments {
         double n = 0, sum[4] = {0, 0, 0, 0}, sq[4] = {0, 0, 0, 0};
@@ -192,7 +191,7 @@ TEST(BallWalk, MatchesDeltaTrackingStoppedAtTheSphere) {
     Rng rng(5, 1);
     for (int i = 0; i < kWalks; ++i) {
         float beta = 1.0f;
-        BallWalk b = walkInBall(w0, radius, sigma, albedo, g, beta, noRoulette, rng);
+        BallWalk b = walkInBall(w0, radius, sigma, g, [&](float) { beta *= albedo; return true; }, rng);
         ASSERT_NEAR(length(b.exit), radius, 1e-4f);
         ball.add(double(b.collisions), beta, dot(b.exit, w0), dot(b.exit, b.direction) / radius);
     }
