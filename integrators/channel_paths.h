@@ -47,7 +47,11 @@ struct SingleChannelPath {
     }
     void collide(Label l) { beta *= lut->albedo[l]; }
     float g(Label l) const { return lut->g[l]; }
-    void phaseSampled(Label, float /*cosTheta*/, float /*pdf*/) {}
+    // A new direction at a collision in label l (HG importance sampling).
+    Vec3f samplePhase(Label l, const Vec3f& dIn, Rng& rng) {
+        float u0 = rng.uniform(), u1 = rng.uniform();
+        return sampleHG(dIn, lut->g[l], u0, u1).dOut;
+    }
     float rouletteValue() const { return beta; }
     void scale(float s) { beta *= s; }
     bool alive() const { return beta > 0.0f; }
@@ -77,13 +81,17 @@ struct HeroPath {
         for (int c = 0; c < 3; ++c) beta[c] *= (*luts)[c].albedo[l];
     }
     float g(Label l) const { return (*luts)[hero].g[l]; }
-    // The hero's HG lobe sampled the direction; channels with another g
+    // The hero's HG lobe samples the direction; channels with another g
     // would have sampled it with their own.
-    void phaseSampled(Label l, float cosTheta, float pdf) {
+    Vec3f samplePhase(Label l, const Vec3f& dIn, Rng& rng) {
+        float u0 = rng.uniform(), u1 = rng.uniform();
+        PhaseSample ps = sampleHG(dIn, (*luts)[hero].g[l], u0, u1);
         for (int c = 0; c < 3; ++c) {
             float gc = (*luts)[c].g[l];
-            if (c != hero && gc != (*luts)[hero].g[l]) logRatio[c] += std::log(hgPhase(cosTheta, gc) / pdf);
+            if (c != hero && gc != (*luts)[hero].g[l])
+                logRatio[c] += std::log(hgPhase(dot(dIn, ps.dOut), gc) / ps.pdf);
         }
+        return ps.dOut;
     }
     // Balance-heuristic weights 3 r_c / sum r, from the log ratios (the
     // largest is >= 0, the hero's, so the sum never underflows).
@@ -137,12 +145,24 @@ struct SpectralPath {
     void collide(Label l) {
         for (int c = 0; c < 3; ++c) beta[c] *= (*luts)[c].albedo[l];
     }
-    // Directions are sampled with the green channel's lobe; the others
-    // take the ratio of theirs to it.
     float g(Label l) const { return (*luts)[1].g[l]; }
-    void phaseSampled(Label l, float cosTheta, float pdf) {
-        for (int c = 0; c < 3; ++c)
-            if ((*luts)[c].g[l] != (*luts)[1].g[l]) beta[c] *= hgPhase(cosTheta, (*luts)[c].g[l]) / pdf;
+    // Where the channels' lobes differ, directions come from their mixture
+    // weighted by the channels' throughputs (the history-aware choice of
+    // spectral tracking, for the phase function); each channel takes the
+    // ratio of its lobe to the mixture's pdf.
+    Vec3f samplePhase(Label l, const Vec3f& dIn, Rng& rng) {
+        const RGB g{(*luts)[0].g[l], (*luts)[1].g[l], (*luts)[2].g[l]};
+        float u0 = rng.uniform(), u1 = rng.uniform();
+        if (g[0] == g[1] && g[1] == g[2]) return sampleHG(dIn, g[0], u0, u1).dOut;
+        float total = std::abs(beta[0]) + std::abs(beta[1]) + std::abs(beta[2]);
+        float pick = rng.uniform() * total;
+        int lobe = pick < std::abs(beta[0]) ? 0 : (pick < std::abs(beta[0]) + std::abs(beta[1]) ? 1 : 2);
+        Vec3f d = sampleHG(dIn, g[lobe], u0, u1).dOut;
+        float cosTheta = dot(dIn, d), pdf = 0.0f;
+        RGB value;
+        for (int c = 0; c < 3; ++c) pdf += std::abs(beta[c]) / total * (value[c] = hgPhase(cosTheta, g[c]));
+        for (int c = 0; c < 3; ++c) beta[c] *= value[c] / pdf;
+        return d;
     }
     float rouletteValue() const { return std::max(beta[0], std::max(beta[1], beta[2])); }
     void scale(float s) {

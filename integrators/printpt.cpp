@@ -156,15 +156,14 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
             if constexpr (kNee) path.addLight(L, nextEvent(x, ray.d, ff.label, path.channel, medium, rng, lobe));
-            float u0 = rng.uniform(), u1 = rng.uniform();
-            PhaseSample ps = sampleHG(ray.d, path.g(ff.label), u0, u1);
-            path.phaseSampled(ff.label, dot(ray.d, ps.dOut), ps.pdf);
+            Vec3f dOut = path.samplePhase(ff.label, ray.d, rng);
             hitWeight = 1.0f;
             if (lobe.kappa > 0) {
-                float pv = lobe.probability * vmfPdf(lobe.axis, lobe.kappa, ps.dOut);
-                hitWeight = ps.pdf / (ps.pdf + pv);
+                float pPhase = hgPhase(dot(ray.d, dOut), path.g(ff.label));
+                float pv = lobe.probability * vmfPdf(lobe.axis, lobe.kappa, dOut);
+                hitWeight = pPhase / (pPhase + pv);
             }
-            ray = {x, ps.dOut};
+            ray = {x, dOut};
             continue;
         }
 

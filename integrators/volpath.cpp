@@ -55,16 +55,14 @@ typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& me
                     path.scale(1.0f / q);
                 }
                 if (options_.maxDepth >= 0 && ++depth > options_.maxDepth) return L;
-                float u0 = rng.uniform(), u1 = rng.uniform();
-                PhaseSample ps = sampleHG(ray.d, path.g(ff.label), u0, u1);
-                path.phaseSampled(ff.label, dot(ray.d, ps.dOut), ps.pdf);
+                Vec3f dOut = path.samplePhase(ff.label, ray.d, rng);
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
                 // (By the surface lift only: a rayEpsilon here would move
                 // collisions a mean free path deep at sigma_t 1e4/mm.)
                 float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
                 float t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
-                ray = {ray.at(t), ps.dOut};
+                ray = {ray.at(t), dOut};
                 spawnedInside = true;
                 continue;
             }

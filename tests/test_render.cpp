@@ -5,6 +5,7 @@
 #include <tbb/global_control.h>
 
 #include "integrators/render.h"
+#include "render_estimate.h"
 #include "test_util.h"
 
 namespace pl {
@@ -30,6 +31,7 @@ void expectFurnace(const Scene& scene, const Sensor& sensor, bool reentry) {
     RenderSettings settings;
     settings.spp = 8;
     settings.volpath.reentry = reentry;
+    settings.channelSampling = ChannelSampling::Separate;
     RenderResult r = render(scene, sensor, settings);
     for (size_t p = 0; p < sensor.pixelCount(); ++p)
         for (int c = 0; c < 3; ++c) {
@@ -38,6 +40,17 @@ void expectFurnace(const Scene& scene, const Sensor& sensor, bool reentry) {
             ASSERT_EQ(r.film.standardError(p, c), 0.0f);
         }
     EXPECT_GT(r.stats.scatterEvents, r.stats.paths);  // light really scattered
+    // One path for three channels whose densities differ: single paths
+    // carry channel weights other than 1, the mean must still be exact.
+    for (ChannelSampling sampling : {ChannelSampling::Hero, ChannelSampling::Spectral}) {
+        settings.channelSampling = sampling;
+        test::Estimate e = test::renderMean(scene, sensor, settings);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GT(e.standardError[c], 0.0f);
+            EXPECT_NEAR(e.mean[c], scene.environment[c], 4.0f * e.standardError[c])
+                << (sampling == ChannelSampling::Hero ? "hero" : "spectral") << " channel " << c;
+        }
+    }
 }
 
 TEST(WhiteFurnace, IndexMatchedSurfaceVoxels) {
@@ -129,20 +142,24 @@ TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         return render(scene, sensor, settings);
     };
-    RenderResult a = renderWith(1), b = renderWith(2);
-    ASSERT_EQ(a.film.pixelCount(), b.film.pixelCount());
-    for (size_t p = 0; p < a.film.pixelCount(); ++p)
-        for (int c = 0; c < 3; ++c) {
-            ASSERT_EQ(a.film.mean(p, c), b.film.mean(p, c));
-            ASSERT_EQ(a.film.standardError(p, c), b.film.standardError(p, c));
-        }
-    EXPECT_EQ(a.stats.scatterEvents, b.stats.scatterEvents);
-    // A different seed gives a different image.
-    settings.seed = 1235;
-    RenderResult c = renderWith(2);
-    bool differs = false;
-    for (size_t p = 0; p < a.film.pixelCount() && !differs; ++p) differs = a.film.mean(p, 0) != c.film.mean(p, 0);
-    EXPECT_TRUE(differs);
+    for (ChannelSampling sampling : {ChannelSampling::Separate, ChannelSampling::Hero, ChannelSampling::Spectral}) {
+        settings.channelSampling = sampling;
+        settings.seed = 1234;
+        RenderResult a = renderWith(1), b = renderWith(2);
+        ASSERT_EQ(a.film.pixelCount(), b.film.pixelCount());
+        for (size_t p = 0; p < a.film.pixelCount(); ++p)
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(a.film.mean(p, c), b.film.mean(p, c));
+                ASSERT_EQ(a.film.standardError(p, c), b.film.standardError(p, c));
+            }
+        EXPECT_EQ(a.stats.scatterEvents, b.stats.scatterEvents);
+        // A different seed gives a different image.
+        settings.seed = 1235;
+        RenderResult c = renderWith(2);
+        bool differs = false;
+        for (size_t p = 0; p < a.film.pixelCount() && !differs; ++p) differs = a.film.mean(p, 0) != c.film.mean(p, 0);
+        EXPECT_TRUE(differs) << int(sampling);
+    }
 }
 
 }  // namespace
