@@ -57,6 +57,13 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
+    // Three channels: one pass per channel, or one path for all three.
+    for (const char* integrator : {"volpath", "printpt"})
+        for (ChannelSampling sampling : {ChannelSampling::Separate, ChannelSampling::Hero, ChannelSampling::Spectral}) {
+            RenderSettings q = c[integrator];
+            q.channelSampling = sampling;
+            c[std::string(integrator) + "-" + channelSamplingName(sampling)] = q;
+        }
     return c;
 }
 

@@ -41,7 +41,7 @@ std::string siRate(double v) {
 }  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "--integrator", "-o"}, {"--quiet"});
+    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "--channel-sampling", "--integrator", "-o"}, {"--quiet"});
     if (args.positional().size() != 1) throw UsageError("render needs exactly one SCENE.json");
     auto t0 = std::chrono::steady_clock::now();
 
@@ -52,6 +52,11 @@ int renderCommand(const std::vector<std::string>& argv) {
         auto channels = parseChannels(*ch);
         if (!channels) throw UsageError("--channel must be r, g, b or rgb");
         desc.render.channels = *channels;
+    }
+    if (auto cs = args.value("--channel-sampling")) {
+        auto sampling = parseChannelSampling(*cs);
+        if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
+        desc.render.channelSampling = *sampling;
     }
     if (auto in = args.value("--integrator")) {
         if (*in != "volpath" && *in != "printpt") throw UsageError("--integrator must be volpath or printpt");
@@ -82,11 +87,12 @@ int renderCommand(const std::vector<std::string>& argv) {
     if (!quiet)
         std::fprintf(stderr,
                      "printlight: %s: %zu triangles, grid %dx%dx%d, sensor %s with %s pixels, %s, "
-                     "%u spp, %zu channel pass(es), %d thread(s), set-up %.2f s\n",
+                     "%u spp, %zu channel pass(es) (%s), %d thread(s), set-up %.2f s\n",
                      desc.sceneFile.string().c_str(), scene.geometry->mesh().triangleCount(),
                      f.resolution.x, f.resolution.y, f.resolution.z, desc.sensor.type.c_str(),
                      withThousands(sensor->pixelCount()).c_str(), desc.render.integrator.c_str(), desc.render.spp,
-                     desc.render.channels.size(), threads, setupSeconds);
+                     rendersChannelsInOnePass(desc.render) ? size_t(1) : desc.render.channels.size(),
+                     channelSamplingName(desc.render.channelSampling), threads, setupSeconds);
 
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     RenderResult result = render(scene, *sensor, desc.render);
@@ -95,7 +101,8 @@ int renderCommand(const std::vector<std::string>& argv) {
     std::string channels = channelNames(desc.render.channels);
     image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
                       {"sensor", desc.sensor.type},        {"spp", std::to_string(desc.render.spp)},
-                      {"seed", std::to_string(desc.render.seed)}, {"channels", channels}};
+                      {"seed", std::to_string(desc.render.seed)}, {"channels", channels},
+                      {"channel_sampling", channelSamplingName(desc.render.channelSampling)}};
     writeExr(image, outputs[0]);
     writePng(image, outputs[1]);
     if (surface) {

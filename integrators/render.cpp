@@ -59,6 +59,8 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
 
 bool rendersChannelsInOnePass(const RenderSettings& settings) {
     if (settings.channelSampling == ChannelSampling::Separate || settings.channels.size() != 3) return false;
+    // printpt's next-event estimation is single-channel: it keeps separate passes.
+    if (settings.integrator == "printpt" && settings.printpt.nee) return false;
     bool seen[3] = {false, false, false};
     for (int c : settings.channels) seen[c] = true;
     return seen[0] && seen[1] && seen[2];

@@ -23,6 +23,17 @@ std::optional<std::vector<int>> parseChannels(const std::string& s) {
     return std::nullopt;
 }
 
+std::optional<ChannelSampling> parseChannelSampling(const std::string& s) {
+    if (s == "separate") return ChannelSampling::Separate;
+    if (s == "hero") return ChannelSampling::Hero;
+    if (s == "spectral") return ChannelSampling::Spectral;
+    return std::nullopt;
+}
+
+const char* channelSamplingName(ChannelSampling s) {
+    return s == ChannelSampling::Separate ? "separate" : (s == ChannelSampling::Hero ? "hero" : "spectral");
+}
+
 std::string channelNames(const std::vector<int>& channels) {
     std::string s;
     for (int c : channels) s += "rgb"[c];
@@ -100,7 +111,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     RenderSettings& r = d.render;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "max_depth", "reentry",
+        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth", "reentry",
                                             "branches", "rr_cap", "rr_threshold", "fresnel_weighting", "medium_first", "clearance", "ball_walks", "nee"});
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
@@ -114,6 +125,10 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         auto ch = parseChannels(json.string(ren, "channel", "render", "rgb"));
         if (!ch) json.fail("render.channel", "must be r, g, b or rgb");
         r.channels = *ch;
+        auto sampling = parseChannelSampling(
+            json.string(ren, "channel_sampling", "render", channelSamplingName(r.channelSampling)));
+        if (!sampling) json.fail("render.channel_sampling", "must be separate, hero or spectral");
+        r.channelSampling = *sampling;
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
         PrintPtOptions& pp = r.printpt;

@@ -66,5 +66,8 @@ std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& sc
 std::optional<std::vector<int>> parseChannels(const std::string& s);
 // The inverse: {0, 1, 2} -> "rgb", {1} -> "g".
 std::string channelNames(const std::vector<int>& channels);
+// "separate", "hero" or "spectral" (nullopt otherwise), and back.
+std::optional<ChannelSampling> parseChannelSampling(const std::string& s);
+const char* channelSamplingName(ChannelSampling s);
 
 }  // namespace pl
