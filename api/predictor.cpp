@@ -37,6 +37,8 @@ Predictor::~Predictor() = default;
 
 const LabelGrid& Predictor::labels() const { return state_->scene.medium->grid(); }
 size_t Predictor::surfaceVoxelCount() const { return state_->sensor->pixelCount(); }
+RGB Predictor::environment() const { return state_->scene.environment; }
+GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
 namespace {
 void requireMaterial(const MaterialTable& materials, Label label, Label voidLabel) {

@@ -60,6 +60,10 @@ public:
     AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
+    // Radiance of the surroundings (divide by it for reflectance) and the
+    // grid's placement in the world (labels() is in the render's local frame).
+    RGB environment() const;
+    GridFrame worldFrame() const;
 
 private:
     // occupancyChanged: whether any voxel may have turned void or non-void;

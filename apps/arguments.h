@@ -5,10 +5,12 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "apps/commands.h"
+#include "core/vecmath.h"
 
 namespace pl {
 
@@ -58,5 +60,15 @@ private:
     std::vector<std::string> positional_;
     std::map<std::string, std::string> values_;
 };
+
+// "x,y,z" as three numbers (UsageError naming the option otherwise).
+inline Vec3f parseTriple(const std::string& option, const std::string& text) {
+    Vec3f v;
+    std::istringstream in(text);
+    char c1 = 0, c2 = 0;
+    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof())
+        throw UsageError(option + " takes three comma-separated numbers, e.g. 0.0423,0.0847,0.027");
+    return v;
+}
 
 }  // namespace pl

@@ -13,6 +13,7 @@ int benchCommand(const std::vector<std::string>& args);
 int batchCommand(const std::vector<std::string>& args);
 int stabilityCommand(const std::vector<std::string>& args);
 int predictCommand(const std::vector<std::string>& args);
+int optimizeCommand(const std::vector<std::string>& args);
 
 // Thrown for bad command-line usage (exit code 2).
 struct UsageError : std::exception {

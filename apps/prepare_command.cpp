@@ -26,15 +26,6 @@ namespace {
 
 constexpr Label kWhiteLabel = 4, kVoidLabel = 5;
 
-Vec3f parseTriple(const std::string& option, const std::string& text) {
-    Vec3f v;
-    std::istringstream in(text);
-    char c1 = 0, c2 = 0;
-    if (!(in >> v.x >> c1 >> v.y >> c2 >> v.z) || c1 != ',' || c2 != ',' || !in.eof())
-        throw UsageError(option + " takes three comma-separated numbers, e.g. 0.0423,0.0847,0.027");
-    return v;
-}
-
 std::string relativeTo(const std::filesystem::path& target, const std::filesystem::path& fromDir) {
     return std::filesystem::relative(std::filesystem::absolute(target),
                                      std::filesystem::absolute(fromDir.empty() ? "." : fromDir))

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
         if (command == "batch") return pl::batchCommand(args);
         if (command == "stability") return pl::stabilityCommand(args);
         if (command == "predict") return pl::predictCommand(args);
+        if (command == "optimize") return pl::optimizeCommand(args);
         throw pl::UsageError("unknown command '" + command + "'");
     } catch (const pl::Interrupted&) {
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");

@@ -43,6 +43,8 @@ struct Vec3i {
     constexpr Vec3i(int32_t x_, int32_t y_, int32_t z_) : x(x_), y(y_), z(z_) {}
     int32_t operator[](int i) const { return i == 0 ? x : (i == 1 ? y : z); }
     int32_t& operator[](int i) { return i == 0 ? x : (i == 1 ? y : z); }
+    Vec3i operator+(const Vec3i& b) const { return {x + b.x, y + b.y, z + b.z}; }
+    Vec3i operator-(const Vec3i& b) const { return {x - b.x, y - b.y, z - b.z}; }
     bool operator==(const Vec3i& b) const { return x == b.x && y == b.y && z == b.z; }
     bool operator!=(const Vec3i& b) const { return !(*this == b); }
     bool operator<(const Vec3i& b) const {

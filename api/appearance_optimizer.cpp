@@ -1,0 +1,211 @@
+#include "api/appearance_optimizer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+
+#include "core/color_difference.h"
+#include "prepare/halftone.h"
+
+namespace pl {
+
+namespace {
+
+// Dense index of the frame's voxels, x fastest.
+struct DenseIndex {
+    Vec3i res;
+    size_t operator()(const Vec3i& v) const { return (size_t(v.z) * res.y + v.y) * res.x + v.x; }
+    bool contains(const Vec3i& v) const {
+        return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < res.x && v.y < res.y && v.z < res.z;
+    }
+};
+
+// Each object voxel within depth_mm of a surface voxel gets the index of
+// its nearest surface voxel (multi-source breadth-first search over face
+// neighbours through the object), -1 elsewhere.
+std::vector<int32_t> shellOwners(const std::vector<Label>& labels, Label voidLabel, const GridFrame& frame,
+                                 const std::vector<Vec3i>& surface, float depth_mm) {
+    DenseIndex at{frame.resolution};
+    std::vector<int32_t> owner(labels.size(), -1);
+    std::deque<Vec3i> queue;
+    for (size_t s = 0; s < surface.size(); ++s) {
+        Vec3i v = surface[s] - frame.indexMin;
+        owner[at(v)] = int32_t(s);
+        queue.push_back(v);
+    }
+    const Vec3f& h = frame.voxelSize_mm;
+    while (!queue.empty()) {
+        Vec3i v = queue.front();
+        queue.pop_front();
+        const int32_t o = owner[at(v)];
+        const Vec3i src = surface[size_t(o)] - frame.indexMin;
+        for (const Vec3i& d : kFaceDirections) {
+            Vec3i n = v + d;
+            if (!at.contains(n) || owner[at(n)] >= 0 || labels[at(n)] == voidLabel) continue;
+            Vec3f off{(n.x - src.x) * h.x, (n.y - src.y) * h.y, (n.z - src.z) * h.z};
+            if (length(off) > depth_mm) continue;
+            owner[at(n)] = o;
+            queue.push_back(n);
+        }
+    }
+    return owner;
+}
+
+// Halftones the shell: requested colour of each voxel's owner, vector
+// error diffusion slice by slice; returns the changes against `labels`.
+std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, const GridFrame& frame,
+                                             const std::vector<int32_t>& owner, const std::vector<RGB>& requested) {
+    const Vec3i& r = frame.resolution;
+    ErrorDiffusionHalftoner halftoner(r.x, r.y);
+    std::vector<MaterialFractions> targets(size_t(r.x) * r.y);
+    std::vector<uint8_t> active(targets.size()), chosen;
+    std::vector<LabelGrid::Change> changes;
+    for (int z = 0; z < r.z; ++z) {
+        const size_t slice = size_t(z) * r.x * r.y;
+        for (size_t i = 0; i < targets.size(); ++i) {
+            int32_t o = owner[slice + i];
+            active[i] = o >= 0;
+            if (o >= 0) targets[i] = fractionsForColor(requested[size_t(o)]);
+        }
+        halftoner.halftoneSlice(z, targets, active, chosen);
+        for (size_t i = 0; i < targets.size(); ++i) {
+            if (!active[i]) continue;
+            Label l = kPrintMaterialLabel[chosen[i]];
+            if (l != labels[slice + i])
+                changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int(i / r.x),
+                                    frame.indexMin.z + z}, l});
+        }
+    }
+    return changes;
+}
+
+// Every shell voxel set to one label (calibration of the gamut).
+std::vector<LabelGrid::Change> fillShell(const std::vector<Label>& labels, const GridFrame& frame,
+                                         const std::vector<int32_t>& owner, Label label) {
+    const Vec3i& r = frame.resolution;
+    std::vector<LabelGrid::Change> changes;
+    for (size_t i = 0; i < owner.size(); ++i)
+        if (owner[i] >= 0 && labels[i] != label)
+            changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
+                                frame.indexMin.z + int(i / (size_t(r.x) * r.y))}, label});
+    return changes;
+}
+
+std::vector<RGB> reflectance(const SurfacePrediction& p, const RGB& environment) {
+    std::vector<RGB> out(p.radiance.size());
+    for (size_t i = 0; i < out.size(); ++i)
+        for (int c = 0; c < 3; ++c) out[i][c] = environment[c] > 0 ? p.radiance[i][c] / environment[c] : 0.0f;
+    return out;
+}
+
+RGB meanOf(const std::vector<RGB>& v) {
+    double s[3] = {0, 0, 0};
+    for (const RGB& x : v)
+        for (int c = 0; c < 3; ++c) s[c] += x[c];
+    RGB m;
+    for (int c = 0; c < 3; ++c) m[c] = float(s[c] / double(std::max<size_t>(v.size(), 1)));
+    return m;
+}
+
+void scoreInto(OptimizeIteration& it, const std::vector<RGB>& predicted, const std::vector<Lab>& targetLab) {
+    std::vector<double> de(predicted.size());
+    double sum = 0;
+    for (size_t i = 0; i < de.size(); ++i) sum += de[i] = ciede2000(labFromLinearSrgb(predicted[i]), targetLab[i]);
+    it.meanDeltaE = de.empty() ? 0 : sum / double(de.size());
+    if (!de.empty()) {
+        size_t k = std::min(de.size() - 1, size_t(std::ceil(0.95 * double(de.size()))) - 1);
+        std::nth_element(de.begin(), de.begin() + long(k), de.end());
+        it.p95DeltaE = de[k];
+    }
+}
+
+}  // namespace
+
+OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& targets,
+                                  const OptimizeSettings& settings,
+                                  const std::function<void(const OptimizeIteration&)>& onIteration) {
+    using Clock = std::chrono::steady_clock;
+    const GridFrame frame = predictor.labels().frame();
+    const Label voidLabel = predictor.labels().voidLabel();
+    const RGB environment = predictor.environment();
+    std::vector<Label> labels = predictor.labels().toDense();
+    OptimizeResult result;
+
+    auto t0 = Clock::now();
+    SurfacePrediction p = predictor.predict();
+    if (targets.size() != p.voxels.size())
+        throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
+    std::vector<int32_t> owner = shellOwners(labels, voidLabel, frame, p.voxels, settings.shellDepth_mm);
+    std::vector<RGB> mapped = targets;
+    if (settings.gamutMap) {
+        // Calibration: the shell all black, then all white; then the labels as given again.
+        auto meanWith = [&](Label l) {
+            auto changes = fillShell(labels, frame, owner, l);
+            predictor.changeLabels(changes);
+            RGB m = meanOf(reflectance(predictor.predict(), environment));
+            for (auto& c : changes) c.label = labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)];
+            predictor.changeLabels(changes);
+            return m;
+        };
+        result.gamutBlack = meanWith(kPrintMaterialLabel[3]);
+        result.gamutWhite = meanWith(kPrintMaterialLabel[4]);
+        for (RGB& t : mapped)
+            for (int c = 0; c < 3; ++c)
+                t[c] = result.gamutBlack[c] + std::clamp(t[c], 0.0f, 1.0f) * (result.gamutWhite[c] - result.gamutBlack[c]);
+    }
+    std::vector<Lab> targetLab(mapped.size());
+    for (size_t i = 0; i < mapped.size(); ++i) targetLab[i] = labFromLinearSrgb(mapped[i]);
+
+    // Surface voxels by position, for smoothing the error.
+    DenseIndex at{frame.resolution};
+    std::vector<int32_t> surfaceAt(labels.size(), -1);
+    for (size_t s = 0; s < p.voxels.size(); ++s) surfaceAt[at(p.voxels[s] - frame.indexMin)] = int32_t(s);
+
+    std::vector<RGB> requested = targets;
+    for (int iteration = 0;; ++iteration) {
+        std::vector<RGB> predicted = reflectance(p, environment);
+        OptimizeIteration it;
+        it.iteration = iteration;
+        scoreInto(it, predicted, targetLab);
+        if (iteration == settings.iterations) {
+            it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+            result.iterations.push_back(it);
+            if (onIteration) onIteration(it);
+            break;
+        }
+        // Error, averaged over the surface neighbourhood; move the requests.
+        std::vector<RGB> error(predicted.size());
+        for (size_t i = 0; i < error.size(); ++i)
+            for (int c = 0; c < 3; ++c) error[i][c] = mapped[i][c] - predicted[i][c];
+        const int R = settings.smoothRadius;
+        for (size_t s = 0; s < requested.size(); ++s) {
+            RGB sum{0, 0, 0};
+            int n = 0;
+            Vec3i v = p.voxels[s] - frame.indexMin;
+            for (int dz = -R; dz <= R; ++dz)
+                for (int dy = -R; dy <= R; ++dy)
+                    for (int dx = -R; dx <= R; ++dx) {
+                        Vec3i q{v.x + dx, v.y + dy, v.z + dz};
+                        if (!at.contains(q) || surfaceAt[at(q)] < 0) continue;
+                        const RGB& e = error[size_t(surfaceAt[at(q)])];
+                        for (int c = 0; c < 3; ++c) sum[c] += e[c];
+                        ++n;
+                    }
+            for (int c = 0; c < 3; ++c)
+                requested[s][c] = std::clamp(requested[s][c] + settings.step * sum[c] / float(n), 0.0f, 1.0f);
+        }
+        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, requested);
+        for (const auto& c : changes) labels[at(c.voxel - frame.indexMin)] = c.label;
+        predictor.changeLabels(changes);
+        it.changedVoxels = changes.size();
+        it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        result.iterations.push_back(it);
+        if (onIteration) onIteration(it);
+        t0 = Clock::now();
+        p = predictor.predict();
+    }
+    return result;
+}
+
+}  // namespace pl

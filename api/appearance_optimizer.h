@@ -1,0 +1,53 @@
+// A simple scattering-aware compensation loop on the surface shell, in the
+// spirit of Elek et al. 2017: predict the surface colour, compare it with
+// the target, push the shell's requested colours against the error,
+// re-halftone, repeat.
+//  - Targets are per surface voxel, linear RGB reflectance (white = 1). By
+//    default they are first mapped into what the printer can show: between
+//    the mean predicted reflectance of a shell all black and all white
+//    (two calibration predictions), per channel.
+//  - The shell is every object voxel within shellDepth_mm of a surface
+//    voxel; each takes the requested colour of its nearest surface voxel.
+//  - Requested colours start at the targets; after each prediction they
+//    move by step x (target - prediction), the error averaged over the
+//    surface voxels within smoothRadius voxels (the prediction is noisy),
+//    clamped to [0, 1]. Then the shell is halftoned again (prepare's vector
+//    error diffusion over fractionsForColor) and only the voxels whose
+//    label changed go to the predictor.
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "api/predictor.h"
+
+namespace pl {
+
+struct OptimizeSettings {
+    int iterations = 8;
+    float shellDepth_mm = 1.0f;
+    float step = 1.0f;
+    int smoothRadius = 1;
+    bool gamutMap = true;
+};
+
+struct OptimizeIteration {
+    int iteration = 0;       // 0: the labels as given
+    double meanDeltaE = 0;   // CIEDE2000, prediction against (mapped) target
+    double p95DeltaE = 0;
+    double seconds = 0;      // prediction plus update
+    size_t changedVoxels = 0;
+};
+
+struct OptimizeResult {
+    std::vector<OptimizeIteration> iterations;
+    RGB gamutBlack{0, 0, 0}, gamutWhite{1, 1, 1};  // reflectance of the calibration shells
+};
+
+// targets: per surface voxel in the predictor's order. The predictor ends
+// holding the final labels. onIteration is called after each prediction.
+OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& targets,
+                                  const OptimizeSettings& settings,
+                                  const std::function<void(const OptimizeIteration&)>& onIteration);
+
+}  // namespace pl
