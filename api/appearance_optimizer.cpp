@@ -108,15 +108,43 @@ RGB meanOf(const std::vector<RGB>& v) {
     return m;
 }
 
-void scoreInto(OptimizeIteration& it, const std::vector<RGB>& predicted, const std::vector<Lab>& targetLab) {
+// Mean of `values` over the surface voxels within radius voxels of each
+// (Chebyshev), i.e. the colour seen at the scale of a few voxels.
+std::vector<RGB> smoothOverSurface(const std::vector<RGB>& values, const std::vector<Vec3i>& voxels,
+                                   const std::vector<int32_t>& surfaceAt, const DenseIndex& at,
+                                   const Vec3i& indexMin, int radius) {
+    if (radius <= 0) return values;
+    std::vector<RGB> out(values.size());
+    for (size_t s = 0; s < values.size(); ++s) {
+        double sum[3] = {0, 0, 0};
+        int n = 0;
+        Vec3i v = voxels[s] - indexMin;
+        for (int dz = -radius; dz <= radius; ++dz)
+            for (int dy = -radius; dy <= radius; ++dy)
+                for (int dx = -radius; dx <= radius; ++dx) {
+                    Vec3i q{v.x + dx, v.y + dy, v.z + dz};
+                    if (!at.contains(q) || surfaceAt[at(q)] < 0) continue;
+                    const RGB& x = values[size_t(surfaceAt[at(q)])];
+                    for (int c = 0; c < 3; ++c) sum[c] += x[c];
+                    ++n;
+                }
+        for (int c = 0; c < 3; ++c) out[s][c] = float(sum[c] / n);
+    }
+    return out;
+}
+
+// Mean and 95th percentile of CIEDE2000 between two colour lists.
+void scoreInto(const std::vector<RGB>& predicted, const std::vector<RGB>& target, double& mean, double& p95) {
     std::vector<double> de(predicted.size());
     double sum = 0;
-    for (size_t i = 0; i < de.size(); ++i) sum += de[i] = ciede2000(labFromLinearSrgb(predicted[i]), targetLab[i]);
-    it.meanDeltaE = de.empty() ? 0 : sum / double(de.size());
+    for (size_t i = 0; i < de.size(); ++i)
+        sum += de[i] = ciede2000(labFromLinearSrgb(predicted[i]), labFromLinearSrgb(target[i]));
+    mean = de.empty() ? 0 : sum / double(de.size());
+    p95 = 0;
     if (!de.empty()) {
         size_t k = std::min(de.size() - 1, size_t(std::ceil(0.95 * double(de.size()))) - 1);
         std::nth_element(de.begin(), de.begin() + long(k), de.end());
-        it.p95DeltaE = de[k];
+        p95 = de[k];
     }
 }
 
@@ -130,6 +158,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     const Label voidLabel = predictor.labels().voidLabel();
     const RGB environment = predictor.environment();
     std::vector<Label> labels = predictor.labels().toDense();
+    const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
 
     auto t0 = Clock::now();
@@ -140,10 +169,14 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     std::vector<RGB> mapped = targets;
     if (settings.gamutMap) {
         // Calibration: the shell all black, then all white; then the labels as given again.
+        // One sample per voxel: the mean over all surface voxels is precise.
         auto meanWith = [&](Label l) {
             auto changes = fillShell(labels, frame, owner, l);
             predictor.changeLabels(changes);
+            const uint32_t spp = predictor.settings().spp;
+            predictor.settings().spp = 1;
             RGB m = meanOf(reflectance(predictor.predict(), environment));
+            predictor.settings().spp = spp;
             for (auto& c : changes) c.label = labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)];
             predictor.changeLabels(changes);
             return m;
@@ -154,20 +187,22 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
             for (int c = 0; c < 3; ++c)
                 t[c] = result.gamutBlack[c] + std::clamp(t[c], 0.0f, 1.0f) * (result.gamutWhite[c] - result.gamutBlack[c]);
     }
-    std::vector<Lab> targetLab(mapped.size());
-    for (size_t i = 0; i < mapped.size(); ++i) targetLab[i] = labFromLinearSrgb(mapped[i]);
-
-    // Surface voxels by position, for smoothing the error.
+    // Surface voxels by position, for smoothing.
     DenseIndex at{frame.resolution};
     std::vector<int32_t> surfaceAt(labels.size(), -1);
     for (size_t s = 0; s < p.voxels.size(); ++s) surfaceAt[at(p.voxels[s] - frame.indexMin)] = int32_t(s);
+    auto smooth = [&](const std::vector<RGB>& v, int radius) {
+        return smoothOverSurface(v, p.voxels, surfaceAt, at, frame.indexMin, radius);
+    };
+    const std::vector<RGB> scoredTarget = smooth(mapped, settings.scoreRadius);
 
     std::vector<RGB> requested = targets;
     for (int iteration = 0;; ++iteration) {
         std::vector<RGB> predicted = reflectance(p, environment);
         OptimizeIteration it;
         it.iteration = iteration;
-        scoreInto(it, predicted, targetLab);
+        scoreInto(smooth(predicted, settings.scoreRadius), scoredTarget, it.meanDeltaE, it.p95DeltaE);
+        scoreInto(predicted, mapped, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel);
         if (iteration == settings.iterations) {
             it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
             result.iterations.push_back(it);
@@ -178,23 +213,10 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         std::vector<RGB> error(predicted.size());
         for (size_t i = 0; i < error.size(); ++i)
             for (int c = 0; c < 3; ++c) error[i][c] = mapped[i][c] - predicted[i][c];
-        const int R = settings.smoothRadius;
-        for (size_t s = 0; s < requested.size(); ++s) {
-            RGB sum{0, 0, 0};
-            int n = 0;
-            Vec3i v = p.voxels[s] - frame.indexMin;
-            for (int dz = -R; dz <= R; ++dz)
-                for (int dy = -R; dy <= R; ++dy)
-                    for (int dx = -R; dx <= R; ++dx) {
-                        Vec3i q{v.x + dx, v.y + dy, v.z + dz};
-                        if (!at.contains(q) || surfaceAt[at(q)] < 0) continue;
-                        const RGB& e = error[size_t(surfaceAt[at(q)])];
-                        for (int c = 0; c < 3; ++c) sum[c] += e[c];
-                        ++n;
-                    }
+        error = smooth(error, settings.smoothRadius);
+        for (size_t s = 0; s < requested.size(); ++s)
             for (int c = 0; c < 3; ++c)
-                requested[s][c] = std::clamp(requested[s][c] + settings.step * sum[c] / float(n), 0.0f, 1.0f);
-        }
+                requested[s][c] = std::clamp(requested[s][c] + settings.step * error[s][c], 0.0f, 1.0f);
         std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, requested);
         for (const auto& c : changes) labels[at(c.voxel - frame.indexMin)] = c.label;
         predictor.changeLabels(changes);
@@ -203,8 +225,11 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         result.iterations.push_back(it);
         if (onIteration) onIteration(it);
         t0 = Clock::now();
+        // A new seed each iteration: the loop must not fit one noise realisation.
+        predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
         p = predictor.predict();
     }
+    predictor.settings().seed = baseSeed;
     return result;
 }
 

@@ -8,6 +8,9 @@
 //    (two calibration predictions), per channel.
 //  - The shell is every object voxel within shellDepth_mm of a surface
 //    voxel; each takes the requested colour of its nearest surface voxel.
+//  - Scores: mean and 95th percentile of CIEDE2000 between prediction and
+//    target, both averaged over a small surface neighbourhood (scoreRadius),
+//    and per voxel.
 //  - Requested colours start at the targets; after each prediction they
 //    move by step x (target - prediction), the error averaged over the
 //    surface voxels within smoothRadius voxels (the prediction is noisy),
@@ -26,15 +29,20 @@ namespace pl {
 struct OptimizeSettings {
     int iterations = 8;
     float shellDepth_mm = 1.0f;
-    float step = 1.0f;
+    float step = 0.5f;
     int smoothRadius = 1;
+    // Colours are compared after averaging prediction and target over the
+    // surface voxels within this many voxels (0: per voxel). Per voxel, the
+    // Monte Carlo noise of a few samples dominates CIEDE2000.
+    int scoreRadius = 1;
     bool gamutMap = true;
 };
 
 struct OptimizeIteration {
     int iteration = 0;       // 0: the labels as given
-    double meanDeltaE = 0;   // CIEDE2000, prediction against (mapped) target
+    double meanDeltaE = 0;   // CIEDE2000, prediction against (mapped) target, at scoreRadius
     double p95DeltaE = 0;
+    double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;      // prediction plus update
     size_t changedVoxels = 0;
 };

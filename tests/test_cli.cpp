@@ -392,6 +392,53 @@ TEST(Cli, PredictRunsTheApiLikeALoop) {
     EXPECT_NE(r.err.find("surface_voxels"), std::string::npos) << r.err;
 }
 
+std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
+    std::vector<std::vector<double>> rows;
+    std::istringstream in(test::readText(file));
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+        std::vector<double> row;
+        std::istringstream cells(line);
+        std::string cell;
+        while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
+    TestScene s("optimize");
+    fs::path prefix = s.dir / "out" / "opt";
+    CliRun r = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --iterations 8 --spp 4 -o " +
+                              prefix.string(), s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto rows = readCsvNumbers(prefix.string() + ".csv");
+    ASSERT_EQ(rows.size(), 9u);
+    // All white at first; a blue the shell can print is far closer after eight iterations.
+    EXPECT_GT(rows[0][1], 20.0);
+    EXPECT_LT(rows[8][1], 0.6 * rows[0][1]) << r.out;
+    EXPECT_GT(rows[1][6], 0.0);  // labels changed
+    LabelGrid labels = loadLabelGrid(prefix.string() + "_labels.vdb", std::nullopt);
+    EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
+    EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
+    CliRun bad = printlight("optimize " + s.write().string() + " --target 2,0,0", s.dir);
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+    EXPECT_NE(bad.err.find("--target"), std::string::npos) << bad.err;
+}
+
+TEST(Cli, OptimizeReducesTheErrorOnTheDetailedCube) {
+    TestScene s("optimize_greek");
+    fs::path prefix = s.dir / "opt";
+    CliRun r = printlight("optimize " + (test::sourceDir() / "data/scenes/cube10_greek_surface.json").string() +
+                              " --target " + (test::sourceDir() / "data/models/cube10_greek.gltf").string() +
+                              " --iterations 1 --spp 1 -o " + prefix.string(), s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    auto rows = readCsvNumbers(prefix.string() + ".csv");
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_LT(rows[1][1], 0.9 * rows[0][1]) << r.out;
+}
+
 TEST(Cli, InfoDescribesABundledGrid) {
     TestScene s("info");
     CliRun r = printlight("info " + (test::sourceDir() / "data/grids/cube10_white.vdb").string(), s.dir);
