@@ -9,7 +9,8 @@
 // (MSE x time)_config. Writes PREFIX.md, PREFIX.csv and PREFIX.svg.
 // --self-variance needs no reference: the expected MSE of an unbiased
 // estimator is its variance, estimated per pixel from the samples
-// themselves (stderr^2, at least kMinSelfSpp samples). Cheap for large scenes;
+// themselves (stderr^2, at least kMinSelfSpp samples; with hero channels,
+// which go round groups of three samples, at least two groups). Cheap for large scenes;
 // it cannot see bias (the tests and the reference mode do) and it
 // underestimates heavy-tailed estimators at few samples.
 #include <algorithm>
@@ -167,9 +168,11 @@ Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref)
 std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
     double tMin = 1e30, tMax = 0, eMin = 1e30, eMax = 0;
     for (const Row& r : rows) {
+        if (!(r.seconds > 0 && r.rmse > 0)) continue;  // not on a log scale
         tMin = std::min(tMin, r.seconds); tMax = std::max(tMax, r.seconds);
         eMin = std::min(eMin, r.rmse); eMax = std::max(eMax, r.rmse);
     }
+    if (tMax == 0 || eMax == 0) tMin = tMax = eMin = eMax = 1;  // nothing to plot: empty axes
     double lt0 = std::floor(std::log10(tMin)), lt1 = std::ceil(std::log10(tMax));
     double le0 = std::floor(std::log10(eMin)), le1 = std::ceil(std::log10(eMax));
     if (lt1 <= lt0) lt1 = lt0 + 1;
@@ -195,10 +198,10 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
         const char* col = colors[k % 8];
         s << "<polyline fill='none' stroke='" << col << "' stroke-width='2' points='";
         for (const Row& r : rows)
-            if (r.config == names[k]) s << x(r.seconds) << "," << y(r.rmse) << " ";
+            if (r.config == names[k] && r.seconds > 0 && r.rmse > 0) s << x(r.seconds) << "," << y(r.rmse) << " ";
         s << "'/>\n";
         for (const Row& r : rows)
-            if (r.config == names[k]) s << "<circle cx='" << x(r.seconds) << "' cy='" << y(r.rmse) << "' r='3' fill='" << col << "'/>\n";
+            if (r.config == names[k] && r.seconds > 0 && r.rmse > 0) s << "<circle cx='" << x(r.seconds) << "' cy='" << y(r.rmse) << "' r='3' fill='" << col << "'/>\n";
         s << "<text x='" << W - R + 10 << "' y='" << T + 16 * (k + 1) << "' fill='" << col << "'>" << names[k] << "</text>\n";
     }
     s << "</svg>\n";
@@ -298,6 +301,10 @@ int benchCommand(const std::vector<std::string>& argv) {
             s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
             if (fixedSpp) s.spp = selfSpp;
             if (self) s.spp = std::max(s.spp, selfSpp);
+            // Hero channels go round groups of three samples, whose means are
+            // the independent units of the variance: at least two groups.
+            if (self && rendersChannelsInOnePass(s) && s.channelSampling == ChannelSampling::Hero)
+                s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
             Errors e = self ? selfVariance(r.film) : compare(r.film, *sensor, ref);

@@ -17,24 +17,31 @@ public:
     explicit Film(size_t pixelCount = 0) : acc_(pixelCount) {}
 
     size_t pixelCount() const { return acc_.size(); }
-    void add(size_t pixel, int channel, float value) {
+    void add(size_t pixel, int channel, float value) { addGroup(pixel, channel, value, 1); }
+    // A group of k samples that must count as one unit for the variance:
+    // samples drawn together by stratification (hero channels going round
+    // three samples) are not independent, their group means are.
+    void addGroup(size_t pixel, int channel, double sumOfSamples, uint32_t k) {
         Accumulator& a = acc_[pixel][channel];
-        a.sum += value;
-        a.sumSq += double(value) * value;
-        a.count += 1;
+        a.sum += sumOfSamples;
+        a.sumSq += sumOfSamples * sumOfSamples / k;  // k x (group mean)^2
+        a.count += k;
+        a.units += 1;
     }
     uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
     float mean(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
         return a.count ? float(a.sum / a.count) : 0.0f;
     }
-    // Standard error of the mean: sqrt(sample variance / n).
+    // Standard error of the mean from the spread of the units (samples or
+    // groups), each weighted by its size: sqrt(sample variance / n) when
+    // every unit is one sample.
     float standardError(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
-        if (a.count < 2) return 0.0f;
+        if (a.units < 2) return 0.0f;
         double m = a.sum / a.count;
-        double var = std::max(0.0, (a.sumSq - a.count * m * m) / (a.count - 1));
-        return float(std::sqrt(var / a.count));
+        double var = std::max(0.0, (a.sumSq - a.count * m * m) / (double(a.count) * (a.units - 1)));
+        return float(std::sqrt(var));
     }
     RGB meanRGB(size_t pixel) const {
         return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
@@ -46,7 +53,8 @@ public:
 private:
     struct Accumulator {
         double sum = 0, sumSq = 0;
-        uint32_t count = 0;
+        uint32_t count = 0;  // samples
+        uint32_t units = 0;  // independent units (samples or groups)
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;
 };

@@ -32,6 +32,9 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                 // pixel (independent of the paths): each sample's hero is
                 // uniform, and every three samples of a pixel have all three.
                 const uint32_t heroOffset = uint32_t(mix64(mix64(settings.seed ^ 0x6865726fULL) ^ p) % 3);
+                // Stratified heroes: samples 3j, 3j+1, 3j+2 go to the film as one group.
+                double group[3] = {0, 0, 0};
+                uint32_t inGroup = 0;
                 for (uint32_t s = firstSample; s < firstSample + count; ++s) {
                     if (interruptRequested()) return;  // Ctrl-C: the film is discarded by the caller
                     // The path's random stream depends only on (seed, pixel, sample, channel or 3 for all).
@@ -40,10 +43,17 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                     Ray ray = sensor.generateRay(p, u0, u1);
                     if (channel >= 0) {
                         result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
-                    } else {
-                        int hero = int((s + heroOffset) % 3);
-                        RGB L = integrator->LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
-                        for (int c = 0; c < 3; ++c) result.film.add(p, c, L[c]);
+                        continue;
+                    }
+                    int hero = int((s + heroOffset) % 3);
+                    RGB L = integrator->LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
+                    for (int c = 0; c < 3; ++c) group[c] += L[c];
+                    ++inGroup;
+                    const bool stratified = settings.channelSampling == ChannelSampling::Hero;
+                    if (!stratified || s % 3 == 2 || s + 1 == firstSample + count) {
+                        for (int c = 0; c < 3; ++c) result.film.addGroup(p, c, group[c], inGroup);
+                        group[0] = group[1] = group[2] = 0;
+                        inGroup = 0;
                     }
                 }
             }

@@ -126,6 +126,24 @@ TEST(AbsorbingSlab, BeerLambertBehindFresnelBoundary) {
     }
 }
 
+TEST(Film, GroupsOfStratifiedSamplesAreTheUnitsOfTheVariance) {
+    Film f(3);
+    for (float v : {1.0f, 2.0f, 3.0f, 4.0f}) f.add(0, 0, v);
+    EXPECT_FLOAT_EQ(f.mean(0, 0), 2.5f);
+    EXPECT_NEAR(f.standardError(0, 0), std::sqrt((5.0 / 3.0) / 4.0), 1e-6);  // sample variance / n
+    // Two groups of three whose samples differ but whose means agree: no error.
+    f.addGroup(1, 0, 0.0 + 0.0 + 3.0, 3);
+    f.addGroup(1, 0, 3.0 + 0.0 + 0.0, 3);
+    EXPECT_FLOAT_EQ(f.mean(1, 0), 1.0f);
+    EXPECT_EQ(f.samples(1, 0), 6u);
+    EXPECT_EQ(f.standardError(1, 0), 0.0f);
+    // Group means 1 and 2: the variance of a group mean is 0.5, over two groups.
+    f.addGroup(2, 0, 3.0, 3);
+    EXPECT_EQ(f.standardError(2, 0), 0.0f);  // one unit: no estimate yet
+    f.addGroup(2, 0, 6.0, 3);
+    EXPECT_NEAR(f.standardError(2, 0), std::sqrt(0.5 / 2.0), 1e-6);
+}
+
 TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
     MaterialTable t = test::tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
                                      {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
