@@ -32,6 +32,10 @@ const char* kUsage =
     "  predict SCENE.json [--iterations N] [--changes K] [--spp N] [--seed S] [--channel r|g|b|rgb] [--threads N]\n"
     "         runs the prediction API like an optimisation loop (K surface voxels relabelled per\n"
     "         iteration) and reports the share of an iteration spent outside path tracing\n"
+    "  optimize SCENE.json --target MODEL.gltf|R,G,B [--iterations N] [--spp N] [--seed S] [--step X]\n"
+    "           [--shell-mm D] [--score-radius R] [--no-gamut-map] [--integrator volpath|printpt]\n"
+    "           [--channel-sampling separate|hero|spectral] [--threads N] [-o PREFIX]\n"
+    "         compensation loop on the surface shell: CIEDE2000 per iteration, PREFIX.csv, PREFIX_labels.vdb\n"
     "  info VOLUME [--void-label N]\n"
     "         describes a label grid (.vdb, .bin, .gz, .vol)\n";
 }

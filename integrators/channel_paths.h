@@ -103,9 +103,13 @@ struct HeroPath {
         for (float& x : r) x *= 3.0f / sum;
         return r;
     }
+    // The mean over the channels of what the path carries: once the other
+    // channels' ratios have died away the hero's weight is 3 and this is its
+    // throughput, so paths end as a single channel's would (the maximum
+    // would let them run on until the throughput fell below 1/3).
     float rouletteValue() const {
         RGB w = misWeights();
-        return std::max(beta[0] * w[0], std::max(beta[1] * w[1], beta[2] * w[2]));
+        return (beta[0] * w[0] + beta[1] * w[1] + beta[2] * w[2]) / 3.0f;
     }
     void scale(float s) {
         for (float& b : beta) b *= s;
