@@ -5,8 +5,8 @@
 // Each configuration renders at each time budget (seconds; the spp is chosen
 // from a 1-spp calibration run) and is compared with the reference: RMSE and
 // relative MSE over all pixels and channels, MSE x time (lower is better),
-// and the equal-error speed-up over volpath = (MSE x time)_volpath /
-// (MSE x time)_config. Writes PREFIX.md, PREFIX.csv and PREFIX.svg.
+// and the equal-error speed-up over volpath (or, without a volpath
+// configuration, over the first one) = (MSE x time)_volpath / (MSE x time)_config. Writes PREFIX.md, PREFIX.csv and PREFIX.svg.
 // --self-variance needs no reference: the expected MSE of an unbiased
 // estimator is its variance, estimated per pixel from the samples
 // themselves (stderr^2, at least kMinSelfSpp samples; with hero channels,
@@ -315,10 +315,13 @@ int benchCommand(const std::vector<std::string>& argv) {
         }
     }
 
-    // Equal-error speed-up over volpath, per budget (MSE x time ratio).
-    std::map<double, double> volpathMseTime;
+    // Equal-error speed-up over the baseline (volpath, or else the first
+    // configuration), per budget (MSE x time ratio).
+    const std::string baseline =
+        std::find(names.begin(), names.end(), "volpath") != names.end() ? "volpath" : names.front();
+    std::map<double, double> baselineMseTime;
     for (const Row& r : rows)
-        if (r.config == "volpath") volpathMseTime[r.budget] = r.mseTime;
+        if (r.config == baseline) baselineMseTime[r.budget] = r.mseTime;
     std::ostringstream md, csv;
     if (self)
         md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
@@ -326,11 +329,12 @@ int benchCommand(const std::vector<std::string>& argv) {
     else
         md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
            << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
-    md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs volpath |\n";
+    md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
+       << baseline << " |\n";
     md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_volpath\n";
+    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline\n";
     for (const Row& r : rows) {
-        double speedup = volpathMseTime.count(r.budget) ? volpathMseTime[r.budget] / r.mseTime : NAN;
+        double speedup = baselineMseTime.count(r.budget) ? baselineMseTime[r.budget] / r.mseTime : NAN;
         char line[512];
         std::snprintf(line, sizeof line, "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f",
                       r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],

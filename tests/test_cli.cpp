@@ -295,15 +295,15 @@ TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
 TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     TestScene s("bench_self");
     fs::path scene = s.write();
-    CliRun r = printlight("bench " + scene.string() + " --self-variance --spp 3 --configs volpath-separate,printpt/k=1/rr_threshold=0.5 --out " +
+    CliRun r = printlight("bench " + scene.string() + " --self-variance --spp 3 --configs volpath-separate,printpt-hero/k=1/rr_threshold=0.5 --out " +
                               (s.dir / "b").string(),
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     std::string csv = readText(s.dir / "b.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3) << csv;  // header + one row per configuration
     EXPECT_NE(csv.find("volpath-separate,1,3,"), std::string::npos) << csv;
-    // Hero channels (the default) need two groups of three samples for a variance.
-    EXPECT_NE(csv.find("printpt/k=1/rr_threshold=0.5,1,6,"), std::string::npos) << csv;
+    // Hero channels need two groups of three samples for a variance.
+    EXPECT_NE(csv.find("printpt-hero/k=1/rr_threshold=0.5,1,6,"), std::string::npos) << csv;
     EXPECT_NE(readText(s.dir / "b.md").find("own variance estimate"), std::string::npos);
     // Overrides are checked.
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/bogus=1", s.dir);
