@@ -118,6 +118,13 @@ PYBIND11_MODULE(printlight, m) {
                           if (!ch) throw std::invalid_argument("channels must be r, g, b or rgb");
                           p.settings().channels = *ch;
                       })
+        .def_property("channel_sampling",
+                      [](Predictor& p) { return std::string(channelSamplingName(p.settings().channelSampling)); },
+                      [](Predictor& p, const std::string& v) {
+                          auto sampling = parseChannelSampling(v);
+                          if (!sampling) throw std::invalid_argument("channel_sampling must be separate, hero or spectral");
+                          p.settings().channelSampling = *sampling;
+                      })
         .def("set_adaptive",
              [](Predictor& p, float maxStandardError, float maxRelativeError, uint32_t firstRoundSpp, uint32_t roundSpp,
                 uint32_t maxSpp, double maxSeconds) {

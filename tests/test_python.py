@@ -68,8 +68,24 @@ class PredictorTest(unittest.TestCase):
             self.p.set_labels(np.zeros((2, 2, 2), dtype=np.uint8))
         with self.assertRaises(ValueError):
             self.p.channels = "x"
+        with self.assertRaises(ValueError):
+            self.p.channel_sampling = "x"
         with self.assertRaises(RuntimeError):
             printlight.Predictor("/nonexistent/scene.json")
+
+    def test_rgb_in_one_pass(self):
+        self.p.channels = "rgb"
+        self.p.channel_sampling = "hero"
+        self.p.spp = 3
+        try:
+            r = self.p.predict()
+        finally:
+            self.p.channels = "g"
+            self.p.channel_sampling = "separate"
+            self.p.spp = 1
+        self.assertTrue(np.all(r["samples"] == 3))
+        rgb = r["radiance"].mean(axis=0)
+        self.assertTrue(np.all((rgb > 0.05) & (rgb < 1.0)), rgb)
 
     def test_adaptive_sampling(self):
         self.p.set_adaptive(max_relative_error=0.2, first_round_spp=2, round_spp=2, max_spp=8)
