@@ -37,6 +37,12 @@ Predictor::~Predictor() = default;
 
 const LabelGrid& Predictor::labels() const { return state_->scene.medium->grid(); }
 size_t Predictor::surfaceVoxelCount() const { return state_->sensor->pixelCount(); }
+std::vector<Vec3i> Predictor::surfaceVoxels() const {
+    std::vector<Vec3i> v;
+    v.reserve(state_->sensor->pixelCount());
+    for (const auto& px : state_->sensor->pixels()) v.push_back(px.voxel);
+    return v;
+}
 RGB Predictor::environment() const { return state_->scene.environment; }
 GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
@@ -142,8 +148,7 @@ SurfacePrediction Predictor::predict() {
     }
     SurfacePrediction p;
     size_t n = state_->sensor->pixelCount();
-    p.voxels.reserve(n);
-    for (const auto& px : state_->sensor->pixels()) p.voxels.push_back(px.voxel);
+    p.voxels = surfaceVoxels();
     p.radiance.resize(n);
     p.standardError.resize(n);
     p.samples.resize(n);

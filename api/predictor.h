@@ -60,6 +60,8 @@ public:
     AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
+    // The surface voxels in the order predict() reports them.
+    std::vector<Vec3i> surfaceVoxels() const;
     // Radiance of the surroundings (divide by it for reflectance) and the
     // grid's placement in the world (labels() is in the render's local frame).
     RGB environment() const;

@@ -107,11 +107,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
         predictor.settings().channelSampling = *sampling;
     }
-    std::vector<Vec3i> voxels;
-    {
-        // The sensor's voxel order: the labels' surface voxels, sorted by (z, y, x).
-        for (const SurfaceVoxel& s : predictor.labels().surfaceVoxels()) voxels.push_back(s.voxel);
-    }
+    const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
     std::vector<RGB> targets = loadTargets(*target, predictor, voxels);
     std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
