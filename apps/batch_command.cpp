@@ -1,14 +1,13 @@
 // printlight batch: renders the scenes of a manifest, each with its own seed
 // and sample count, and optionally compares every result with a stored one
 // (regression renders). Results are EXRs in sensor-pixel order.
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <chrono>
 #include <cstdio>
 #include <sstream>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "apps/code_fingerprint.h"
 #include "core/progress.h"
 #include "core/result_comparison.h"
@@ -101,8 +100,7 @@ int batchCommand(const std::vector<std::string>& argv) {
     std::optional<std::filesystem::path> compareDir;
     if (auto c = args.value("--compare")) compareDir = *c;
     uint64_t seedOffset = uint64_t(args.integer("--seed-offset", 0, int64_t(1) << 40).value_or(0));
-    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    ThreadLimit threadLimit(args);
     ComparisonLimits limits;
     if (auto f = args.value("--max-outlier-fraction")) {
         char* end = nullptr;

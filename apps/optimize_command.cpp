@@ -6,8 +6,6 @@
 // Prints per iteration the mean and 95th-percentile CIEDE2000 between the
 // predicted and the target surface colour and the iteration time; writes
 // PREFIX.csv (the same numbers) and PREFIX_labels.vdb (the final labels).
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <chrono>
 #include <cstdio>
@@ -15,6 +13,7 @@
 
 #include "api/appearance_optimizer.h"
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "core/progress.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
@@ -82,8 +81,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!(os.shellDepth_mm >= 0 && os.shellDepth_mm <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
     }
     os.scoreRadius = int(args.integer("--score-radius", 0, 8).value_or(os.scoreRadius));
-    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    ThreadLimit threadLimit(args);
 
     auto t0 = std::chrono::steady_clock::now();
     SceneDescription desc = parseScene(args.positional()[0]);
@@ -93,20 +91,12 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (std::filesystem::exists(*target)) inputs.push_back(*target);
     refuseToOverwriteInputs(csvFile, inputs);
     refuseToOverwriteInputs(labelsFile, inputs);
+    // Settings before the predictor loads: what it loads depends on the
+    // integrator (printpt needs the surface clearance).
+    if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
+    applyRenderOptions(args, desc.render);
+    desc.render.channels = {0, 1, 2};
     Predictor predictor(desc, desc.render);
-    if (auto spp = args.integer("--spp", 1, 1 << 24)) predictor.settings().spp = uint32_t(*spp);
-    if (auto seed = args.integer("--seed", 0, INT64_MAX)) predictor.settings().seed = uint64_t(*seed);
-    predictor.settings().channels = {0, 1, 2};
-    if (auto integrator = args.value("--integrator")) {
-        if (*integrator != "volpath" && *integrator != "printpt") throw UsageError("--integrator must be volpath or printpt");
-        predictor.settings().integrator = *integrator;
-        predictor.settings().volpath.reentry = false;
-    }
-    if (auto cs = args.value("--channel-sampling")) {
-        auto sampling = parseChannelSampling(*cs);
-        if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
-        predictor.settings().channelSampling = *sampling;
-    }
     const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
     std::vector<RGB> targets = loadTargets(*target, predictor, voxels);
     std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),

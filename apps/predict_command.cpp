@@ -2,8 +2,6 @@
 // does, N iterations that each relabel K random surface voxels, and reports
 // how the time of an iteration splits between the label update (grid,
 // majorants, sensor check) and path tracing.
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <algorithm>
 #include <chrono>
@@ -11,6 +9,7 @@
 
 #include "api/predictor.h"
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "core/progress.h"
 #include "core/rng.h"
 #include "io/scene_io.h"
@@ -22,18 +21,12 @@ int predictCommand(const std::vector<std::string>& argv) {
     if (args.positional().size() != 1) throw UsageError("predict needs exactly one SCENE.json");
     int iterations = int(args.integer("--iterations", 1, 100000).value_or(5));
     int changesPerIteration = int(args.integer("--changes", 0, 1 << 24).value_or(1000));
-    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    ThreadLimit threadLimit(args);
 
     auto t0 = std::chrono::steady_clock::now();
-    auto predictor = Predictor::fromSceneFile(args.positional()[0]);
-    if (auto spp = args.integer("--spp", 1, 1 << 24)) predictor->settings().spp = uint32_t(*spp);
-    if (auto seed = args.integer("--seed", 0, INT64_MAX)) predictor->settings().seed = uint64_t(*seed);
-    if (auto ch = args.value("--channel")) {
-        auto channels = parseChannels(*ch);
-        if (!channels) throw UsageError("--channel must be r, g, b or rgb");
-        predictor->settings().channels = *channels;
-    }
+    SceneDescription desc = parseScene(args.positional()[0]);
+    applyRenderOptions(args, desc.render);
+    auto predictor = std::make_unique<Predictor>(desc, desc.render);
     std::printf("predict: loaded in %.2f s: %zu surface voxels, %s, %u spp\n", secondsSince(t0),
                 predictor->surfaceVoxelCount(), predictor->settings().integrator.c_str(), predictor->settings().spp);
 

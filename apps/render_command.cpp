@@ -1,11 +1,10 @@
 // printlight render: scene file -> surface-radiance prediction or preview.
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <chrono>
 #include <cstdio>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "core/progress.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
@@ -46,26 +45,8 @@ int renderCommand(const std::vector<std::string>& argv) {
     auto t0 = std::chrono::steady_clock::now();
 
     SceneDescription desc = parseScene(args.positional()[0]);
-    if (auto spp = args.integer("--spp", 1, int64_t(1) << 24)) desc.render.spp = uint32_t(*spp);
-    if (auto seed = args.integer("--seed", 0, INT64_MAX)) desc.render.seed = uint64_t(*seed);
-    if (auto ch = args.value("--channel")) {
-        auto channels = parseChannels(*ch);
-        if (!channels) throw UsageError("--channel must be r, g, b or rgb");
-        desc.render.channels = *channels;
-    }
-    if (auto cs = args.value("--channel-sampling")) {
-        auto sampling = parseChannelSampling(*cs);
-        if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
-        desc.render.channelSampling = *sampling;
-    }
-    if (auto in = args.value("--integrator")) {
-        if (*in != "volpath" && *in != "printpt") throw UsageError("--integrator must be volpath or printpt");
-        if (*in == "printpt" && desc.render.volpath.reentry)
-            throw UsageError("printpt does not trace re-entry; the scene asks for \"reentry\": true");
-        desc.render.integrator = *in;
-    }
-    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    applyRenderOptions(args, desc.render);
+    ThreadLimit threads(args);
     if (auto o = args.value("-o")) desc.output = *o;
 
     // Outputs: never over an input, never partial (see io/output_file.h).
@@ -92,7 +73,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                      f.resolution.x, f.resolution.y, f.resolution.z, desc.sensor.type.c_str(),
                      withThousands(sensor->pixelCount()).c_str(), desc.render.integrator.c_str(), desc.render.spp,
                      rendersChannelsInOnePass(desc.render) ? size_t(1) : desc.render.channels.size(),
-                     channelSamplingName(desc.render.channelSampling), threads, setupSeconds);
+                     channelSamplingName(desc.render.channelSampling), threads.count, setupSeconds);
 
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     RenderResult result = render(scene, *sensor, desc.render);
@@ -130,7 +111,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                 s, secondsSince(t0), withThousands(samples).c_str(),
                 withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), balls, threads,
+                siRate(result.stats.scatterEvents / s).c_str(), balls, threads.count,
                 (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
     return 0;
 }

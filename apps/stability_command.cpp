@@ -1,7 +1,5 @@
 // printlight stability: runs the numerical stability suite and writes its
 // table (docs/stability.md is this command's output).
-#include <tbb/global_control.h>
-#include <tbb/info.h>
 
 #include <chrono>
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <sstream>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "apps/stability_cases.h"
 #include "core/progress.h"
 #include "io/output_file.h"
@@ -66,8 +65,7 @@ int stabilityCommand(const std::vector<std::string>& argv) {
     if (!args.positional().empty()) throw UsageError("stability takes no positional arguments");
     bool quick = args.has("--quick");
     uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX).value_or(1));
-    int threads = int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()));
-    tbb::global_control threadLimit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    ThreadLimit threads(args);
     auto t0 = std::chrono::steady_clock::now();
     std::vector<StabilityRow> rows = runStabilitySuite(quick, seed, [](const StabilityRow& r) {
         std::printf("%-28s %-8s expected %-12s measured %-12s z %+6.2f  NaN %llu  %6.2f s  %s%s\n", r.caseName.c_str(),
@@ -80,7 +78,7 @@ int stabilityCommand(const std::vector<std::string>& argv) {
     for (const auto& r : rows) failed += !r.pass;
     // Default: the repository's report when run from its root.
     std::string out = args.value("-o").value_or(std::filesystem::is_directory("docs") ? "docs/stability.md" : "stability.md");
-    writeTextFile(out, markdownTable(rows, quick, threads, secondsSince(t0)));
+    writeTextFile(out, markdownTable(rows, quick, threads.count, secondsSince(t0)));
     std::printf("stability: %zu of %zu rows pass (%.1f s) -> %s\n", rows.size() - size_t(failed), rows.size(),
                 secondsSince(t0), out.c_str());
     return failed ? 1 : 0;

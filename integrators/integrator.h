@@ -39,6 +39,18 @@ inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
     return r;
 }
 
+// The path an estimator traces for one channel, or for all three with the
+// chosen sampling: trace(path) returns the radiance it gathers.
+template <class Trace>
+float traceOneChannel(const Scene& scene, int channel, Trace&& trace) {
+    return trace(SingleChannelPath{&scene.medium->lut(channel), channel, scene.environment[channel]});
+}
+template <class Trace>
+RGB traceThreeChannels(const Scene& scene, ChannelSampling sampling, int hero, Trace&& trace) {
+    if (sampling == ChannelSampling::Spectral) return trace(SpectralPath{&scene.medium->luts(), scene.environment});
+    return trace(HeroPath{&scene.medium->luts(), scene.environment, hero});
+}
+
 class Integrator {
 public:
     virtual ~Integrator() = default;

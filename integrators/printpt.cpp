@@ -10,15 +10,13 @@ namespace pl {
 
 float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
-    return trace(ray, SingleChannelPath{&scene_.medium->lut(channel), channel, scene_.environment[channel]}, medium,
-                 rng, stats);
+    return traceOneChannel(scene_, channel, [&](const auto& path) { return trace(ray, path, medium, rng, stats); });
 }
 
 RGB PrintPt::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
                    PathStats& stats) const {
-    if (sampling == ChannelSampling::Spectral)
-        return trace(ray, SpectralPath{&scene_.medium->luts(), scene_.environment}, medium, rng, stats);
-    return trace(ray, HeroPath{&scene_.medium->luts(), scene_.environment, hero}, medium, rng, stats);
+    return traceThreeChannels(scene_, sampling, hero,
+                              [&](const auto& path) { return trace(ray, path, medium, rng, stats); });
 }
 
 template <class Path>

@@ -7,15 +7,12 @@ namespace pl {
 
 float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
-    SingleChannelPath path{&scene_.medium->lut(channel), channel, scene_.environment[channel]};
-    return trace(ray, path, medium, rng, stats);
+    return traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); });
 }
 
 RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
                    PathStats& stats) const {
-    if (sampling == ChannelSampling::Spectral)
-        return trace(ray, SpectralPath{&scene_.medium->luts(), scene_.environment}, medium, rng, stats);
-    return trace(ray, HeroPath{&scene_.medium->luts(), scene_.environment, hero}, medium, rng, stats);
+    return traceThreeChannels(scene_, sampling, hero, [&](auto path) { return trace(ray, path, medium, rng, stats); });
 }
 
 template <class Path>

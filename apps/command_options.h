@@ -1,0 +1,50 @@
+// Options several commands share: --threads (a TBB limit for the command's
+// lifetime) and the render overrides --spp, --seed, --channel,
+// --channel-sampling and --integrator.
+#pragma once
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "apps/arguments.h"
+#include "integrators/render.h"
+#include "io/scene_io.h"
+
+namespace pl {
+
+// --threads N (default: all cores) for as long as this object lives.
+class ThreadLimit {
+public:
+    explicit ThreadLimit(const Arguments& args)
+        : count(int(args.integer("--threads", 1, 1024).value_or(tbb::info::default_concurrency()))),
+          control_(tbb::global_control::max_allowed_parallelism, size_t(count)) {}
+    const int count;
+
+private:
+    tbb::global_control control_;
+};
+
+// Applies those of the render overrides the command line holds (a command
+// that does not accept one never has it).
+inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
+    if (auto spp = args.integer("--spp", 1, int64_t(1) << 24)) r.spp = uint32_t(*spp);
+    if (auto seed = args.integer("--seed", 0, INT64_MAX)) r.seed = uint64_t(*seed);
+    if (auto ch = args.value("--channel")) {
+        auto channels = parseChannels(*ch);
+        if (!channels) throw UsageError("--channel must be r, g, b or rgb");
+        r.channels = *channels;
+    }
+    if (auto cs = args.value("--channel-sampling")) {
+        auto sampling = parseChannelSampling(*cs);
+        if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
+        r.channelSampling = *sampling;
+    }
+    if (auto in = args.value("--integrator")) {
+        if (*in != "volpath" && *in != "printpt") throw UsageError("--integrator must be volpath or printpt");
+        if (*in == "printpt" && r.volpath.reentry)
+            throw UsageError("printpt does not trace re-entry; the scene asks for \"reentry\": true");
+        r.integrator = *in;
+    }
+}
+
+}  // namespace pl
