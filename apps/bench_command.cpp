@@ -25,6 +25,7 @@
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
+#include "io/printpt_settings.h"
 #include "io/scene_io.h"
 
 namespace pl {
@@ -95,19 +96,12 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
         } catch (const std::exception&) {
             throw UsageError("configuration '" + spec + "': " + key + " needs a number");
         }
-        PrintPtOptions& o = s.printpt;
-        if (key == "branches" || key == "k") o.branches = std::max(1, int(v));
-        else if (key == "rr_cap") o.rrCap = float(v);
-        else if (key == "rr_threshold") o.rrThreshold = float(v);
-        else if (key == "nee") o.nee = v != 0;
-        else if (key == "medium_first") o.mediumFirst = v != 0;
-        else if (key == "fresnel_weighting") o.fresnelWeighting = v != 0;
-        else if (key == "clearance") o.clearance = v != 0;
-        else if (key == "ball_walks") o.ballWalks = v != 0;
-        else if (key == "ball_min_mfp") o.ballMinMfp = float(v);
-        else throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
-        if (!(o.rrCap > 0 && o.rrCap <= 1 && o.rrThreshold > 0 && o.rrThreshold <= 1))
-            throw UsageError("configuration '" + spec + "': rr_cap and rr_threshold must be in (0, 1]");
+        if (key == "k") key = "branches";
+        bool known = false;
+        for (const PrintPtKey& k : printPtKeys()) known = known || key == k.name;
+        if (!known) throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
+        std::string problem = setPrintPtOption(s.printpt, key, v);
+        if (!problem.empty()) throw UsageError("configuration '" + spec + "': " + key + " " + problem);
     }
     return s;
 }

@@ -49,7 +49,7 @@ struct PrintPtOptions {
     float rrThreshold = 0.25f;  // measured best on the test set (docs/performance.md)
     bool clearance = true;
     bool ballWalks = true;
-    float ballMinMfp = 4.0f;  // smallest ball worth it, in mean free paths
+    float ballMinMfp = 1.0f;  // smallest ball worth it, in mean free paths (docs/performance.md)
 };
 
 class PrintPt : public Integrator {

@@ -36,9 +36,14 @@ void JsonReader::fail(const std::string& key, const std::string& problem) const 
 
 void JsonReader::expectOnlyKeys(const nlohmann::json& obj, const std::string& where,
                                 std::initializer_list<const char*> allowed) const {
+    expectOnlyKeys(obj, where, std::vector<std::string>(allowed.begin(), allowed.end()));
+}
+
+void JsonReader::expectOnlyKeys(const nlohmann::json& obj, const std::string& where,
+                                const std::vector<std::string>& allowed) const {
     for (auto it = obj.begin(); it != obj.end(); ++it) {
         bool ok = false;
-        for (const char* a : allowed) ok = ok || it.key() == a;
+        for (const std::string& a : allowed) ok = ok || it.key() == a;
         if (!ok) fail(keyName(where, it.key().c_str()), "is not a known key");
     }
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,8 @@ public:
     // Rejects keys outside `allowed` (catches typos such as "desnity").
     void expectOnlyKeys(const nlohmann::json& obj, const std::string& where,
                         std::initializer_list<const char*> allowed) const;
+    void expectOnlyKeys(const nlohmann::json& obj, const std::string& where,
+                        const std::vector<std::string>& allowed) const;
 
     const nlohmann::json& object(const nlohmann::json& parent, const char* key,
                                  const std::string& where) const;

@@ -8,6 +8,7 @@
 #include "io/json_util.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
+#include "io/printpt_settings.h"
 
 namespace pl {
 
@@ -111,8 +112,10 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     RenderSettings& r = d.render;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        json.expectOnlyKeys(ren, "render", {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth", "reentry",
-                                            "branches", "rr_cap", "rr_threshold", "fresnel_weighting", "medium_first", "clearance", "ball_walks", "nee"});
+        std::vector<std::string> keys = {"integrator", "spp",      "seed",   "channel",
+                                         "channel_sampling", "max_depth", "reentry"};
+        for (const PrintPtKey& k : printPtKeys()) keys.push_back(k.name);
+        json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
             json.fail("render.integrator", "must be volpath or printpt");
@@ -131,19 +134,14 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         r.channelSampling = *sampling;
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
-        PrintPtOptions& pp = r.printpt;
-        int64_t branches = json.integer(ren, "branches", "render", pp.branches);
-        if (branches < 1 || branches > 1024) json.fail("render.branches", "must be in 1..1024");
-        pp.branches = int(branches);
-        pp.rrCap = float(json.number(ren, "rr_cap", "render", pp.rrCap));
-        if (!(pp.rrCap > 0 && pp.rrCap <= 1)) json.fail("render.rr_cap", "must be in (0, 1]");
-        pp.rrThreshold = float(json.number(ren, "rr_threshold", "render", pp.rrThreshold));
-        if (!(pp.rrThreshold > 0 && pp.rrThreshold <= 1)) json.fail("render.rr_threshold", "must be in (0, 1]");
-        pp.fresnelWeighting = json.boolean(ren, "fresnel_weighting", "render", pp.fresnelWeighting);
-        pp.mediumFirst = json.boolean(ren, "medium_first", "render", pp.mediumFirst);
-        pp.clearance = json.boolean(ren, "clearance", "render", pp.clearance);
-        pp.ballWalks = json.boolean(ren, "ball_walks", "render", pp.ballWalks);
-        pp.nee = json.boolean(ren, "nee", "render", pp.nee);
+        for (const PrintPtKey& k : printPtKeys()) {
+            if (!ren.contains(k.name)) continue;
+            double value = k.kind == PrintPtKey::Kind::Boolean   ? double(json.boolean(ren, k.name, "render", false))
+                           : k.kind == PrintPtKey::Kind::Integer ? double(json.integer(ren, k.name, "render"))
+                                                                 : json.number(ren, k.name, "render");
+            std::string problem = setPrintPtOption(r.printpt, k.name, value);
+            if (!problem.empty()) json.fail(std::string("render.") + k.name, problem);
+        }
         if (r.integrator == "printpt" && r.volpath.reentry)
             json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
     }

@@ -245,6 +245,26 @@ TEST(Cli, UnknownSceneKeysAreTypos) {
     expectCleanFailure(s, s.render(), "scene.json", "render.sps");
 }
 
+// printpt's switches: one table for the scene file and bench's overrides.
+TEST(Cli, PrintPtSwitchesAreChecked) {
+    struct Case {
+        const char* key;
+        nlohmann::json value;
+        const char* problem;
+    } cases[] = {{"rr_threshold", 0.0, "must be in (0, 1]"},
+                 {"branches", 0, "1..1024"},
+                 {"ball_min_mfp", -1.0, ">= 0"},
+                 {"ball_walks", 3, "must be"}};
+    for (const Case& c : cases) {
+        TestScene s(std::string("switch_") + c.key);
+        s.scene["render"]["integrator"] = "printpt";
+        s.scene["render"][c.key] = c.value;
+        CliRun r = s.render();
+        expectCleanFailure(s, r, "scene.json", std::string("render.") + c.key);
+        EXPECT_NE(r.err.find(c.problem), std::string::npos) << r.err;
+    }
+}
+
 TEST(Cli, NeverOverwritesAnInput) {
     TestScene s("overwrite");
     writeLabelGridVdb(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }),
@@ -311,6 +331,10 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_NE(r.err.find("unknown key 'bogus'"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/rr_threshold=0", s.dir);
     EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("rr_threshold must be in (0, 1]"), std::string::npos) << r.err;
+    r = printlight("bench " + scene.string() + " --self-variance --configs printpt/k=0", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("branches must be a whole number"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --reference x.exr", s.dir);
     EXPECT_EQ(r.exitCode, 2);
 }

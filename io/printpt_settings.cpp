@@ -1,0 +1,44 @@
+#include "io/printpt_settings.h"
+
+#include <stdexcept>
+
+namespace pl {
+
+const std::vector<PrintPtKey>& printPtKeys() {
+    using K = PrintPtKey::Kind;
+    static const std::vector<PrintPtKey> keys = {
+        {"branches", K::Integer},      {"rr_cap", K::Number},         {"rr_threshold", K::Number},
+        {"fresnel_weighting", K::Boolean}, {"medium_first", K::Boolean}, {"clearance", K::Boolean},
+        {"ball_walks", K::Boolean},    {"ball_min_mfp", K::Number},   {"nee", K::Boolean},
+    };
+    return keys;
+}
+
+std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double value) {
+    const bool on = value != 0.0;
+    if (key == "branches") {
+        if (!(value >= 1 && value <= 1024) || value != double(int(value))) return "must be a whole number in 1..1024";
+        o.branches = int(value);
+    } else if (key == "rr_cap" || key == "rr_threshold") {
+        if (!(value > 0 && value <= 1)) return "must be in (0, 1]";
+        (key == "rr_cap" ? o.rrCap : o.rrThreshold) = float(value);
+    } else if (key == "ball_min_mfp") {
+        if (!(value >= 0 && value <= 1e6)) return "must be a number of mean free paths >= 0";
+        o.ballMinMfp = float(value);
+    } else if (key == "fresnel_weighting") {
+        o.fresnelWeighting = on;
+    } else if (key == "medium_first") {
+        o.mediumFirst = on;
+    } else if (key == "clearance") {
+        o.clearance = on;
+    } else if (key == "ball_walks") {
+        o.ballWalks = on;
+    } else if (key == "nee") {
+        o.nee = on;
+    } else {
+        throw std::invalid_argument("unknown printpt option '" + key + "'");
+    }
+    return "";
+}
+
+}  // namespace pl
