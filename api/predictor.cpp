@@ -23,9 +23,10 @@ Predictor::Predictor(const SceneDescription& desc, const RenderSettings& setting
         throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
     SceneNeeds needs = SceneNeeds::of(settings);
     state_->scene = loadScene(desc, needs);
-    const LabelGrid& grid = state_->scene.medium->grid();
-    state_->surfaceVoxels = grid.surfaceVoxels();
-    state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, grid.frame(), state_->surfaceVoxels);
+    // The render command's sensor: same mismatch and memory checks.
+    std::unique_ptr<Sensor> sensor = makeSensor(desc, state_->scene);
+    state_->sensor.reset(dynamic_cast<SurfaceVoxelSensor*>(sensor.release()));
+    state_->surfaceVoxels = labels().surfaceVoxels();
 }
 
 std::unique_ptr<Predictor> Predictor::fromSceneFile(const std::filesystem::path& sceneFile) {
@@ -56,8 +57,22 @@ void requireMaterial(const MaterialTable& materials, Label label, Label voidLabe
 void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector<Vec3i>* changed) {
     auto t0 = std::chrono::steady_clock::now();
     const GridFrame& local = labels().frame();
-    // Grid, lookup tables and majorants: everything that depends on labels.
     grid.placeCornerAt(local.cornerMin_mm);
+    // The sensor only depends on which voxels are void. Built first: labels
+    // that the mesh does not cover are refused with the predictor unchanged.
+    std::unique_ptr<SurfaceVoxelSensor> sensor;
+    std::vector<SurfaceVoxel> surface;
+    if (occupancyChanged) {
+        surface = grid.surfaceVoxels();
+        if (surface != state_->surfaceVoxels) {
+            try {
+                sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, grid.frame(), surface);
+            } catch (const std::runtime_error& e) {
+                throw std::invalid_argument(std::string("new labels: ") + e.what());
+            }
+        }
+    }
+    // Grid, lookup tables and majorants: everything that depends on labels.
     const LabelMedium& previous = *state_->scene.medium;
     if (changed) {  // majorants of the touched bricks only
         state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), previous, *changed);
@@ -66,14 +81,9 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         next->setSurfaceFields(previous.surfaceFields());
         state_->scene.medium = std::move(next);
     }
-    // The sensor only depends on which voxels are void.
-    if (occupancyChanged) {
-        std::vector<SurfaceVoxel> surface = labels().surfaceVoxels();
-        if (surface != state_->surfaceVoxels) {
-            state_->surfaceVoxels = std::move(surface);
-            state_->sensor = std::make_unique<SurfaceVoxelSensor>(*state_->scene.geometry, labels().frame(),
-                                                                  state_->surfaceVoxels);
-        }
+    if (sensor) {
+        state_->surfaceVoxels = std::move(surface);
+        state_->sensor = std::move(sensor);
     }
     pendingUpdateSeconds_ += secondsSince(t0);
 }

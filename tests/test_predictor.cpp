@@ -83,6 +83,8 @@ TEST(Predictor, ChangesEqualAWholeGridAndBadUpdatesAreRefused) {
     EXPECT_THROW(predictor->changeLabels({{{20, 0, 0}, kWhite}}), std::out_of_range);        // outside
     EXPECT_THROW(predictor->setLabels(test::boxGrid({10, 10, 10}, {0.2f, 0.2f, 0.2f}, shellLabel)),
                  std::invalid_argument);  // other voxels
+    // A hole in the middle: its walls would be surface voxels 0.9 mm from the mesh.
+    EXPECT_THROW(predictor->changeLabels({{{10, 10, 10}, test::kTestVoid}}), std::invalid_argument);
     EXPECT_TRUE(sameBits(before, predictor->predict()));  // refused updates change nothing
 
     // Emptying a corner voxel changes the shape: the sensor follows.
