@@ -49,7 +49,7 @@ GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
 namespace {
 void requireMaterial(const MaterialTable& materials, Label label, Label voidLabel) {
-    if (label != voidLabel && !materials.byLabel[label].defined)
+    if (!materials.covers(label, voidLabel))
         throw std::invalid_argument("label " + std::to_string(label) + " is not in the material table");
 }
 }  // namespace

@@ -168,7 +168,7 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     // Every label in the grid needs a material (the void label may be vacuum).
     auto hist = grid.histogram();
     for (int l = 0; l < 256; ++l)
-        if (hist[size_t(l)] > 0 && l != grid.voidLabel() && !materials.byLabel[size_t(l)].defined)
+        if (hist[size_t(l)] > 0 && !materials.covers(Label(l), grid.voidLabel()))
             throw InputError(d.labelsFile.string(),
                              "label " + std::to_string(l) + " (" + std::to_string(hist[size_t(l)]) +
                                  " voxels) is missing from the material table " + d.materialsFile.string());

@@ -28,6 +28,9 @@ inline const char* researchLabelName(int label) {
 
 struct MaterialTable {
     std::array<Material, 256> byLabel;
+    // Whether voxels may hold label l: it has a material, or it is the void
+    // label (vacuum unless defined).
+    bool covers(Label l, Label voidLabel) const { return l == voidLabel || byLabel[l].defined; }
 };
 
 // The per-channel view the trackers read in their inner loops.
