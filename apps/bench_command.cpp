@@ -50,8 +50,8 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         c[name] = q;
     };
     // The thesis' Russian roulette: survival min(0.99, throughput) at every collision.
-    variant("printpt-brecka", [](PrintPtOptions& o) { o.rrCap = 0.99f; o.rrThreshold = 1.0f; });
-    variant("printpt-analog", [](PrintPtOptions& o) { o.rrThreshold = 1.0f; });
+    variant("printpt-brecka", [](PrintPtOptions& o) { o.rrCap = 0.99f; o.rrThreshold = o.rrThresholdAbsorbing = 1.0f; });
+    variant("printpt-analog", [](PrintPtOptions& o) { o.rrThreshold = o.rrThresholdAbsorbing = 1.0f; });
     variant("printpt-k1", [](PrintPtOptions& o) { o.branches = 1; });
     variant("printpt-k16", [](PrintPtOptions& o) { o.branches = 16; });
     variant("printpt-geometry-first", [](PrintPtOptions& o) { o.mediumFirst = false; });

@@ -53,6 +53,8 @@ struct SingleChannelPath {
         return sampleHG(dIn, lut->g[l], u0, u1).dOut;
     }
     float rouletteValue() const { return beta; }
+    // The albedo that says whether a collision is in absorbing resin.
+    float rouletteAlbedo(Label l) const { return lut->albedo[l]; }
     void scale(float s) { beta *= s; }
     bool alive() const { return beta > 0.0f; }
     // L += weight x throughput x environment.
@@ -111,6 +113,7 @@ struct HeroPath {
         RGB w = misWeights();
         return (beta[0] * w[0] + beta[1] * w[1] + beta[2] * w[2]) / 3.0f;
     }
+    float rouletteAlbedo(Label l) const { return (*luts)[hero].albedo[l]; }
     void scale(float s) {
         for (float& b : beta) b *= s;
     }
@@ -169,6 +172,9 @@ struct SpectralPath {
         return d;
     }
     float rouletteValue() const { return std::max(beta[0], std::max(beta[1], beta[2])); }
+    float rouletteAlbedo(Label l) const {
+        return std::max((*luts)[0].albedo[l], std::max((*luts)[1].albedo[l], (*luts)[2].albedo[l]));
+    }
     void scale(float s) {
         for (float& b : beta) b *= s;
     }

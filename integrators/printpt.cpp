@@ -150,7 +150,7 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             stats.scatterEvents += 1;
             bounces = 0;
             path.collide(ff.label);
-            if (!survivesRoulette(path, rng)) return L;
+            if (!survivesRoulette(path, ff.label, rng)) return L;
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
             if constexpr (kNee) path.addLight(L, nextEvent(x, ray.d, ff.label, path.channel, medium, rng, lobe));
@@ -188,8 +188,11 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
 }
 
 template <class Path>
-bool PrintPt::survivesRoulette(Path& path, Rng& rng) const {
-    float q = std::min(options_.rrCap, path.rouletteValue() / options_.rrThreshold);
+bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
+    // Absorbing ink ends walks soon anyway: an earlier roulette there saves
+    // their tails at little variance; white keeps long weighted walks.
+    float threshold = path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing : options_.rrThreshold;
+    float q = std::min(options_.rrCap, path.rouletteValue() / threshold);
     if (q >= 1.0f) return true;
     if (!(rng.uniform() < q)) return false;
     path.scale(1.0f / q);
@@ -215,7 +218,7 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
                                     path.ballFlight(label, flight_mm);
                                     path.ballCollision(label);
                                     path.collide(label);
-                                    return survivesRoulette(path, rng);
+                                    return survivesRoulette(path, label, rng);
                                 },
                                 rng);
     path.ballFlight(label, b.lastFlight_mm);

@@ -12,7 +12,8 @@
 //  - Russian roulette on the throughput with survival probability
 //    min(rrCap, throughput / rrThreshold) (no roulette while that is >= 1):
 //    a threshold of 1 is analog absorption; a lower one carries the
-//    albedo as a weight until the throughput falls below it;
+//    albedo as a weight until the throughput falls below it; collisions in
+//    absorbing resin use rrThresholdAbsorbing instead;
 //  - ball walks: deep inside one material (a ball around the walk's
 //    position that the surface clearance and the bricks' uniform reach show
 //    to hold one label only) collisions are sampled in a plain homogeneous
@@ -38,6 +39,7 @@
 namespace pl {
 
 struct PrintPtOptions {
+    static constexpr float kAbsorbingAlbedo = 0.5f;
     bool mediumFirst = true;
     bool fresnelWeighting = true;
     float rrCap = 1.0f;  // Brecka: 0.99, which lets weights grow as (albedo / 0.99)^n
@@ -50,6 +52,9 @@ struct PrintPtOptions {
     bool clearance = true;
     bool ballWalks = true;
     float ballMinMfp = 1.0f;  // smallest ball worth it, in mean free paths (docs/performance.md)
+    // The threshold at collisions in absorbing resin (albedo below
+    // kAbsorbingAlbedo in the path's channel: the inks and black).
+    float rrThresholdAbsorbing = 1.0f;
 };
 
 class PrintPt : public Integrator {
@@ -79,7 +84,7 @@ private:
     WalkFunction<Path> selectWalk() const;
     // Russian roulette on the throughput; false: the walk ends.
     template <class Path>
-    bool survivesRoulette(Path& path, Rng& rng) const;
+    bool survivesRoulette(Path& path, Label label, Rng& rng) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;

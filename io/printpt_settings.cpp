@@ -7,7 +7,7 @@ namespace pl {
 const std::vector<PrintPtKey>& printPtKeys() {
     using K = PrintPtKey::Kind;
     static const std::vector<PrintPtKey> keys = {
-        {"branches", K::Integer},      {"rr_cap", K::Number},         {"rr_threshold", K::Number},
+        {"branches", K::Integer},      {"rr_cap", K::Number},         {"rr_threshold", K::Number},  {"rr_threshold_absorbing", K::Number},
         {"fresnel_weighting", K::Boolean}, {"medium_first", K::Boolean}, {"clearance", K::Boolean},
         {"ball_walks", K::Boolean},    {"ball_min_mfp", K::Number},   {"nee", K::Boolean},
     };
@@ -19,9 +19,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     if (key == "branches") {
         if (!(value >= 1 && value <= 1024) || value != double(int(value))) return "must be a whole number in 1..1024";
         o.branches = int(value);
-    } else if (key == "rr_cap" || key == "rr_threshold") {
+    } else if (key == "rr_cap" || key == "rr_threshold" || key == "rr_threshold_absorbing") {
         if (!(value > 0 && value <= 1)) return "must be in (0, 1]";
-        (key == "rr_cap" ? o.rrCap : o.rrThreshold) = float(value);
+        (key == "rr_cap" ? o.rrCap : key == "rr_threshold" ? o.rrThreshold : o.rrThresholdAbsorbing) = float(value);
     } else if (key == "ball_min_mfp") {
         if (!(value >= 0 && value <= 1e6)) return "must be a number of mean free paths >= 0";
         o.ballMinMfp = float(value);

@@ -69,7 +69,11 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
             PrintPtOptions options;
         };
         scene.medium->setSurfaceFields(boxFields(g));
+        PrintPtOptions inkRoulette;  // the other way round from the defaults
+        inkRoulette.rrThreshold = 1.0f;
+        inkRoulette.rrThresholdAbsorbing = 0.1f;
         const Config configs[] = {{"defaults", PrintPtOptions{}},
+                                  {"roulette below 0.1 in ink, analog elsewhere", inkRoulette},
                                   {"Brecka's roulette (cap 0.99, analog)", {true, true, 0.99f, 4, false, 50.0f, 4.0f, 0.05f, 1.0f}},
                                   {"no clearance", {true, true, 1.0f, 4, false, 50.0f, 4.0f, 0.05f, 0.25f, false}},
                                   {"geometry first", {false, true, 0.99f, 4, false}},
