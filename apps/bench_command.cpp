@@ -19,6 +19,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "apps/arguments.h"
 #include "core/progress.h"
@@ -97,10 +98,12 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
             throw UsageError("configuration '" + spec + "': " + key + " needs a number");
         }
         if (key == "k") key = "branches";
-        bool known = false;
-        for (const PrintPtKey& k : printPtKeys()) known = known || key == k.name;
-        if (!known) throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
-        std::string problem = setPrintPtOption(s.printpt, key, v);
+        std::string problem;
+        try {
+            problem = setPrintPtOption(s.printpt, key, v);
+        } catch (const std::invalid_argument&) {
+            throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
+        }
         if (!problem.empty()) throw UsageError("configuration '" + spec + "': " + key + " " + problem);
     }
     return s;

@@ -191,7 +191,8 @@ template <class Path>
 bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
     // Absorbing ink ends walks soon anyway: an earlier roulette there saves
     // their tails at little variance; white keeps long weighted walks.
-    float threshold = path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing : options_.rrThreshold;
+    float threshold = path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing
+                                                                                     : options_.rrThreshold;
     float q = std::min(options_.rrCap, path.rouletteValue() / threshold);
     if (q >= 1.0f) return true;
     if (!(rng.uniform() < q)) return false;

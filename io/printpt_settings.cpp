@@ -7,9 +7,16 @@ namespace pl {
 const std::vector<PrintPtKey>& printPtKeys() {
     using K = PrintPtKey::Kind;
     static const std::vector<PrintPtKey> keys = {
-        {"branches", K::Integer},      {"rr_cap", K::Number},         {"rr_threshold", K::Number},  {"rr_threshold_absorbing", K::Number},
-        {"fresnel_weighting", K::Boolean}, {"medium_first", K::Boolean}, {"clearance", K::Boolean},
-        {"ball_walks", K::Boolean},    {"ball_min_mfp", K::Number},   {"nee", K::Boolean},
+        {"branches", K::Integer},
+        {"rr_cap", K::Number},
+        {"rr_threshold", K::Number},
+        {"rr_threshold_absorbing", K::Number},
+        {"fresnel_weighting", K::Boolean},
+        {"medium_first", K::Boolean},
+        {"clearance", K::Boolean},
+        {"ball_walks", K::Boolean},
+        {"ball_min_mfp", K::Number},
+        {"nee", K::Boolean},
     };
     return keys;
 }
