@@ -69,19 +69,30 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
             PrintPtOptions options;
         };
         scene.medium->setSurfaceFields(boxFields(g));
-        PrintPtOptions inkRoulette;  // the other way round from the defaults
-        inkRoulette.rrThreshold = 1.0f;
-        inkRoulette.rrThresholdAbsorbing = 0.1f;
-        const Config configs[] = {{"defaults", PrintPtOptions{}},
-                                  {"roulette below 0.1 in ink, analog elsewhere", inkRoulette},
-                                  {"Brecka's roulette (cap 0.99, analog)", {true, true, 0.99f, 4, false, 50.0f, 4.0f, 0.05f, 1.0f}},
-                                  {"no clearance", {true, true, 1.0f, 4, false, 50.0f, 4.0f, 0.05f, 0.25f, false}},
-                                  {"geometry first", {false, true, 0.99f, 4, false}},
-                                  {"random Fresnel", {true, false, 0.99f, 4, false}},
-                                  {"no branching, RR below a throughput of 0.2", {true, true, 1.0f, 1, false, 50.0f, 4.0f, 0.05f, 0.2f}},
-                                  {"next-event estimation", {true, true, 0.99f, 4, true}},
-                                  {"NEE, random Fresnel, geometry first", {false, false, 1.0f, 2, true, 5.0f}},
-                                  {"NEE, heavy pruning", {true, true, 0.99f, 4, true, 50.0f, 0.5f, 0.1f}}};
+        // Each configuration changes the defaults by name.
+        auto with = [](auto change) {
+            PrintPtOptions o;
+            change(o);
+            return o;
+        };
+        const Config configs[] = {
+            {"defaults", PrintPtOptions{}},
+            {"roulette below 0.1 in ink, analog elsewhere",
+             with([](PrintPtOptions& o) { o.rrThreshold = 1.0f, o.rrThresholdAbsorbing = 0.1f; })},
+            {"Brecka's roulette (cap 0.99, analog)",
+             with([](PrintPtOptions& o) { o.rrCap = 0.99f, o.rrThreshold = o.rrThresholdAbsorbing = 1.0f; })},
+            {"no clearance", with([](PrintPtOptions& o) { o.clearance = false; })},
+            {"geometry first", with([](PrintPtOptions& o) { o.mediumFirst = false, o.rrCap = 0.99f; })},
+            {"random Fresnel", with([](PrintPtOptions& o) { o.fresnelWeighting = false, o.rrCap = 0.99f; })},
+            {"no branching, RR below a throughput of 0.2",
+             with([](PrintPtOptions& o) { o.branches = 1, o.rrThreshold = 0.2f; })},
+            {"next-event estimation", with([](PrintPtOptions& o) { o.nee = true, o.rrCap = 0.99f; })},
+            {"NEE, random Fresnel, geometry first", with([](PrintPtOptions& o) {
+                 o.nee = true, o.mediumFirst = false, o.fresnelWeighting = false, o.branches = 2, o.neeMaxKappa = 5.0f;
+             })},
+            {"NEE, heavy pruning", with([](PrintPtOptions& o) {
+                 o.nee = true, o.rrCap = 0.99f, o.neePruneScale = 0.5f, o.neeMinProbability = 0.1f;
+             })}};
         for (const Config& cfg : configs) {
             RenderSettings s = reference;
             s.integrator = "printpt";
