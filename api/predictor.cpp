@@ -23,10 +23,9 @@ Predictor::Predictor(const SceneDescription& desc, const RenderSettings& setting
         throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
     SceneNeeds needs = SceneNeeds::of(settings);
     state_->scene = loadScene(desc, needs);
-    // The render command's sensor: same mismatch and memory checks.
-    std::unique_ptr<Sensor> sensor = makeSensor(desc, state_->scene);
-    state_->sensor.reset(dynamic_cast<SurfaceVoxelSensor*>(sensor.release()));
+    // The render command's sensor checks (mesh and grid match, memory).
     state_->surfaceVoxels = labels().surfaceVoxels();
+    state_->sensor = makeSurfaceVoxelSensor(desc, state_->scene, state_->surfaceVoxels);
 }
 
 std::unique_ptr<Predictor> Predictor::fromSceneFile(const std::filesystem::path& sceneFile) {

@@ -112,8 +112,8 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     RenderSettings& r = d.render;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        std::vector<std::string> keys = {"integrator", "spp",      "seed",   "channel",
-                                         "channel_sampling", "max_depth", "reentry"};
+        std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
+                                         "reentry"};
         for (const PrintPtKey& k : printPtKeys()) keys.push_back(k.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -191,29 +191,40 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     return scene;
 }
 
+namespace {
+// What rendering allocates per pixel: the film (3 channels of double sums)
+// and the output images. Throws if that does not fit.
+void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
+    uint64_t pixelBytes = uint64_t(sensor.pixelCount()) * 200 + uint64_t(sensor.imageWidth()) * sensor.imageHeight() * 40;
+    if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor.pixelCount()) + " sensor pixels"))
+        throw InputError(desc.sceneFile.string(), *why);
+}
+}  // namespace
+
+std::unique_ptr<SurfaceVoxelSensor> makeSurfaceVoxelSensor(const SceneDescription& desc, const Scene& scene,
+                                                           const std::vector<SurfaceVoxel>& surfaceVoxels) {
+    std::unique_ptr<SurfaceVoxelSensor> sensor;
+    try {
+        sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels);
+    } catch (const std::runtime_error& e) {  // mesh and grid do not match
+        throw InputError(desc.labelsFile.string(), e.what());
+    }
+    requireSensorMemory(desc, *sensor);
+    return sensor;
+}
+
 std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene) {
     const SensorDescription& s = desc.sensor;
+    if (s.type == "surface_voxels") return makeSurfaceVoxelSensor(desc, scene, scene.medium->grid().surfaceVoxels());
     CameraPose local = s.pose;  // in the scene's local frame
     local.position_mm = local.position_mm - scene.worldOrigin_mm;
     local.lookAt_mm = local.lookAt_mm - scene.worldOrigin_mm;
     std::unique_ptr<Sensor> sensor;
-    if (s.type == "perspective") {
+    if (s.type == "perspective")
         sensor = std::make_unique<PerspectiveSensor>(local, s.fovY_deg, s.width, s.height);
-    } else if (s.type == "orthographic") {
+    else
         sensor = std::make_unique<OrthographicSensor>(local, s.viewWidth_mm, s.width, s.height);
-    } else {
-        const LabelGrid& grid = scene.medium->grid();
-        try {
-            sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, grid.frame(), grid.surfaceVoxels());
-        } catch (const std::runtime_error& e) {  // mesh and grid do not match
-            throw InputError(desc.labelsFile.string(), e.what());
-        }
-    }
-    // What rendering allocates per pixel: the film (3 channels of double
-    // sums) and the output images.
-    uint64_t pixelBytes = uint64_t(sensor->pixelCount()) * 200 + uint64_t(sensor->imageWidth()) * sensor->imageHeight() * 40;
-    if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor->pixelCount()) + " sensor pixels"))
-        throw InputError(desc.sceneFile.string(), *why);
+    requireSensorMemory(desc, *sensor);
     return sensor;
 }
 

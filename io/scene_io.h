@@ -61,6 +61,10 @@ Scene loadScene(const SceneDescription& desc, SceneNeeds needs = {});
 // Builds the sensor (for surface_voxels this enumerates the surface voxels);
 // refuses one whose pixels would not fit in memory.
 std::unique_ptr<Sensor> makeSensor(const SceneDescription& desc, const Scene& scene);
+// The surface_voxels sensor over given surface voxels of the scene's grid,
+// with the same checks (the prediction API keeps the voxels it computed).
+std::unique_ptr<SurfaceVoxelSensor> makeSurfaceVoxelSensor(const SceneDescription& desc, const Scene& scene,
+                                                           const std::vector<SurfaceVoxel>& surfaceVoxels);
 
 // Parses "r", "g", "b" or "rgb".
 std::optional<std::vector<int>> parseChannels(const std::string& s);
