@@ -1,9 +1,13 @@
 #include "integrators/printpt.h"
 
 #include <type_traits>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "integrators/half_space_walk.h"
 #include "media/ball_walk.h"
 
 namespace pl {
@@ -55,9 +59,20 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
     if constexpr (std::is_same_v<Path, SingleChannelPath>) walk = walkSingle_;
     else if constexpr (std::is_same_v<Path, HeroPath>) walk = walkHero_;
     else walk = walkSpectral_;
+    HalfSpace control;
+    float controlMean = 0.0f;
+    bool controlled = false;
+    if constexpr (std::is_same_v<Path, SingleChannelPath>)
+        controlled = options_.controlVariate && !options_.nee && controlFor(inside, path, medium, control, controlMean);
     for (int b = 0; b < k; ++b) {
         // Each walk starts at throughput 1 (Russian roulette is relative to it).
-        typename Path::Value Lb = (this->*walk)(inside, path, medium, rng, stats);
+        typename Path::Value Lb{};
+        if constexpr (std::is_same_v<Path, SingleChannelPath>) {
+            if (controlled) Lb = walkWithControl(inside, path, control, medium, rng, stats) + controlMean;
+            else Lb = (this->*walk)(inside, path, medium, rng, stats);
+        } else {
+            Lb = (this->*walk)(inside, path, medium, rng, stats);
+        }
         if constexpr (std::is_same_v<typename Path::Value, float>) L += branchWeight * Lb;
         else
             for (int c = 0; c < 3; ++c) L[c] += branchWeight * Lb[c];
@@ -72,6 +87,27 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     Vec3f voxel = scene_.medium->frame().voxelSize_mm;
     minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
     walkSingle_ = selectWalk<SingleChannelPath>();
+    for (auto& m : controlMean_) m.fill(-1.0f);
+    for (auto& m : controlStdErr_) m.fill(-1.0f);
+    if (options_.controlVariate && !options_.nee) {
+        // The control's mean for every material in the grid that scatters
+        // enough for a long walk (absorbing resin ends walks by itself).
+        std::array<uint64_t, 256> voxels = scene_.medium->grid().histogram();
+        for (int c = 0; c < 3; ++c) {
+            const ChannelLut& lut = scene_.medium->lut(c);
+            for (int l = 0; l < 256; ++l) {
+                HalfSpace hs{{0, 0, 0}, {0, 0, 1}, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
+                if (voxels[l] == 0 || !(hs.sigmaT_perMm > 0.0f) || hs.albedo < PrintPtOptions::kAbsorbingAlbedo ||
+                    hs.albedo > 0.999f)
+                    continue;
+                HalfSpaceMean m = estimateHalfSpaceMean(hs, {options_.rrThreshold, options_.rrCap},
+                                                        std::max(1.0f, options_.ballMinMfp), options_.controlWalks,
+                                                        mix64(uint64_t(l) * 3 + uint64_t(c)));
+                controlMean_[c][l] = float(m.mean);
+                controlStdErr_[c][l] = float(m.standardError);
+            }
+        }
+    }
     walkHero_ = selectWalk<HeroPath>();
     walkSpectral_ = selectWalk<SpectralPath>();
 }
@@ -188,12 +224,17 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
 }
 
 template <class Path>
-bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
+float PrintPt::rouletteSurvival(const Path& path, Label label) const {
     // Absorbing ink ends walks soon anyway: an earlier roulette there saves
     // their tails at little variance; white keeps long weighted walks.
     float threshold = path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing
                                                                                      : options_.rrThreshold;
-    float q = std::min(options_.rrCap, path.rouletteValue() / threshold);
+    return std::min(options_.rrCap, path.rouletteValue() / threshold);
+}
+
+template <class Path>
+bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
+    float q = rouletteSurvival(path, label);
     if (q >= 1.0f) return true;
     if (!(rng.uniform() < q)) return false;
     path.scale(1.0f / q);
@@ -227,6 +268,156 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
     stats.ballEvents += uint64_t(b.collisions);
     ray = {ray.o + b.exit, b.direction};
     return b.alive;
+}
+
+bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
+                         HalfSpace& control, float& mean) const {
+    // The plane goes through the first point along the ray where the
+    // medium can scatter: the mesh and the voxels' edges do not line up, and
+    // a skin of void voxels inside the mesh would otherwise shift the two
+    // walks' collisions apart by its thickness.
+    FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
+    if (!first.scattered) return false;
+    Label l = first.label;
+    mean = controlMean_[path.channel][l];
+    if (mean < 0.0f) return false;
+    const ChannelLut& lut = *path.lut;
+    control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
+    // Near an edge or a thin part the walks part early and each goes on
+    // alone, which doubles the variance the control should have taken away:
+    // the control only runs where the object holds a ball of the probe's
+    // depth below the entry, in diffusion lengths of the material.
+    float diffusionLength_mm =
+        1.0f / (control.sigmaT_perMm * std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g)));
+    float probe_mm = options_.controlProbe * diffusionLength_mm;
+    auto nearest = scene_.geometry->closestPoint(control.origin + inside.d * probe_mm, probe_mm);
+    if (nearest && nearest->distance_mm < 0.9f * probe_mm) return false;
+    mean *= path.Le;
+    return true;
+}
+
+float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control,
+                               LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
+    const Geometry& geometry = *scene_.geometry;
+    const float etaOut = 1.0f / scene_.ior;
+    const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
+    const bool balls = options_.ballWalks && scene_.clearance;
+    const RouletteRule controlRoulette{options_.rrThreshold, options_.rrCap};
+    const float controlBallMfp = std::max(1.0f, options_.ballMinMfp);
+    HalfSpaceWalker c{control.origin, ray.d, 1.0f};
+    float L = 0.0f, Lc = 0.0f;  // Lc per unit environment radiance
+    int64_t bounces = 0, controlEvents = 0;
+    bool deep = false;
+    // The control walks on alone from its state (after its pending event).
+    auto finishControl = [&](bool atCollision) {
+        Lc += finishHalfSpaceWalk(control, c, atCollision, controlRoulette, controlBallMfp, rng, controlEvents);
+        return L - Lc * path.Le;
+    };
+    stats.paths += 1;
+    for (;;) {
+        if (balls && deep) {
+            // A ball that holds only the control's material and lies below
+            // its plane: one ball walk for both (rotated onto the control).
+            Label label;
+            float radius_mm = std::min(homogeneousBall(ray.o, label), control.depth(c.x));
+            if (radius_mm > 0.0f && path.lut->sigmaT_perMm[label] == control.sigmaT_perMm &&
+                path.lut->albedo[label] == control.albedo && path.lut->g[label] == control.g &&
+                radius_mm * control.sigmaT_perMm >= options_.ballMinMfp && dot(ray.d, c.d) > -0.99f) {
+                const Vec3f d0 = ray.d;
+                BallWalk b = pl::walkInBall(d0, radius_mm, control.sigmaT_perMm, control.g,
+                                            [&](float) {
+                                                path.collide(label);
+                                                c.weight *= control.albedo;
+                                                float q = rouletteSurvival(path, label);
+                                                if (q >= 1.0f) return true;
+                                                if (!(rng.uniform() < q)) return false;
+                                                path.scale(1.0f / q);
+                                                c.weight /= q;
+                                                return true;
+                                            },
+                                            rng);
+                stats.scatterEvents += uint64_t(b.collisions);
+                stats.ballEvents += uint64_t(b.collisions);
+                if (!b.alive) return L - Lc * path.Le;  // both ended by the same roulette
+                ray = {ray.o + b.exit, b.direction};
+                c.x = c.x + rotateAtoB(d0, c.d, b.exit);
+                c.d = normalize(rotateAtoB(d0, c.d, b.direction));
+                bounces = 0;
+                continue;
+            }
+        }
+        // One optical depth for both flights.
+        float opticalDepth = -std::log(1.0f - rng.uniform());
+        FreeFlight ff = medium.freeFlightAtDepth(ray, 1e30f, path.channel, opticalDepth);
+        deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
+        std::optional<SurfaceHit> hit;
+        if (!deep) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
+        const bool controlCollides = halfSpaceFlight(control, c, opticalDepth, Lc);
+        if ((!hit && !ff.scattered) || (hit && dot(ray.d, hit->ng) < 0)) {
+            stats.leaks += 1;  // as walk(): treated as leaving
+            path.addLight(L, 1.0f);
+            return finishControl(controlCollides);
+        }
+        const bool collides = !hit;
+        if (collides != controlCollides) {
+            if (std::getenv("PL_CVDBG")) {
+                static std::atomic<int64_t> nA{0}, nB{0};
+                (collides ? nA : nB) += 1;
+                if (((nA + nB) & 0xFFFF) == 0) fprintf(stderr, "part real-collides %ld real-boundary %ld depth %g bounces %ld\n", long(nA), long(nB), control.depth(c.x), long(bounces));
+            }
+            // The events part: each walk goes on alone.
+            float f = finishControl(controlCollides);
+            if (collides) {
+                stats.scatterEvents += 1;
+                path.collide(ff.label);
+                if (!survivesRoulette(path, ff.label, rng)) return f;
+                Point3f x = ray.at(ff.t_mm);
+                ray = {x, path.samplePhase(ff.label, ray.d, rng)};
+            } else {
+                Vec3f n = -hit->ns;
+                float F = fresnelDielectric(-dot(ray.d, n), etaOut);
+                f += (1.0f - F) * path.beta * path.Le;
+                path.scale(F);
+                if (!path.alive()) return f;
+                Vec3f r = reflectOnSide(ray.d, *hit);
+                if (dot(r, hit->ng) >= 0) r = -hit->ng;
+                ray = geometry.spawnRay(hit->p, hit->ng, r);
+            }
+            stats.paths -= 1;  // walk() counts it again
+            return f + (this->*walkSingle_)(ray, path, medium, rng, stats);
+        }
+        if (collides) {
+            // Both collide: shared roulette (the surface walk's survival
+            // probability, unbiased for both) and shared phase numbers.
+            stats.scatterEvents += 1;
+            bounces = 0;
+            path.collide(ff.label);
+            float q = rouletteSurvival(path, ff.label);
+            if (q < 1.0f) {
+                if (!(rng.uniform() < q)) return L - Lc * path.Le;
+                path.scale(1.0f / q);
+                c.weight /= q;
+            }
+            float u0 = rng.uniform(), u1 = rng.uniform();
+            Point3f x = ray.at(ff.t_mm);
+            ray = {x, sampleHG(ray.d, path.g(ff.label), u0, u1).dOut};
+            c.d = sampleHG(c.d, control.g, u0, u1).dOut;
+            continue;
+        }
+        // Both reach their boundary: Fresnel weighting on each.
+        if (++bounces > kMaxBoundaryBounces) {
+            stats.trapped += 1;
+            return finishControl(false);
+        }
+        Vec3f n = -hit->ns;
+        float F = fresnelDielectric(-dot(ray.d, n), etaOut);
+        path.addLight(L, 1.0f - F);
+        path.scale(F);
+        if (!path.alive()) return finishControl(false);
+        Vec3f r = reflectOnSide(ray.d, *hit);
+        if (dot(r, hit->ng) >= 0) r = -hit->ng;
+        ray = geometry.spawnRay(hit->p, hit->ng, r);
+    }
 }
 
 float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,

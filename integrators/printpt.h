@@ -21,6 +21,17 @@
 //    would leave the ball; tracking restarts where it crosses the sphere
 //    (exact: free flights are memoryless);
 //  - branching: k independent walks from the entry point, weight 1/k each;
+//  - control variate (single channel, no NEE): each branch's walk shares
+//    its random numbers with a walk in the half-space of the entry voxel's
+//    material below the plane across the refracted ray (same optical
+//    depths, phase and roulette numbers; its flights are sampled by
+//    inverting the optical depth, so the two collide at the same places
+//    wherever the media agree). Until their events part (one collides where
+//    the other leaves), they add the same light; after that the half-space
+//    walk finishes on its own. The estimate is f - g + E[g], with E[g]
+//    estimated once per material and channel with `controlWalks` cheap
+//    walks (integrators/half_space_walk.h). Only for entry materials that
+//    scatter (albedo in [kAbsorbingAlbedo, 0.999]);
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
@@ -34,6 +45,7 @@
 //    and the MIS weights count that probability, so nothing is biased.
 #pragma once
 
+#include "integrators/half_space_walk.h"
 #include "integrators/integrator.h"
 
 namespace pl {
@@ -55,6 +67,9 @@ struct PrintPtOptions {
     // The threshold at collisions in absorbing resin (albedo below
     // kAbsorbingAlbedo in the path's channel: the inks and black).
     float rrThresholdAbsorbing = 1.0f;
+    bool controlVariate = false;
+    int64_t controlWalks = int64_t(1) << 17;
+    float controlProbe = 0.7f;  // diffusion lengths (see controlFor)
 };
 
 class PrintPt : public Integrator {
@@ -85,6 +100,16 @@ private:
     // Russian roulette on the throughput; false: the walk ends.
     template <class Path>
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
+    template <class Path>
+    float rouletteSurvival(const Path& path, Label label) const;
+    // The walk of a single-channel branch with its half-space control:
+    // returns f - g (the caller adds the control's mean).
+    float walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control, LabelMedium::Sampler& medium,
+                          Rng& rng, PathStats& stats) const;
+    // The half-space control of a branch entering along `inside`, and its
+    // mean; false where the entry material has none.
+    bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
+                    HalfSpace& control, float& mean) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
@@ -111,6 +136,9 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
+    // Per channel and label: the control's mean and its standard error
+    // (negative: no control for that material).
+    std::array<std::array<float, 256>, 3> controlMean_{}, controlStdErr_{};
 };
 
 }  // namespace pl

@@ -17,6 +17,9 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"ball_walks", K::Boolean},
         {"ball_min_mfp", K::Number},
         {"nee", K::Boolean},
+        {"control_variate", K::Boolean},
+        {"control_walks", K::Integer},
+        {"control_probe", K::Number},
     };
     return keys;
 }
@@ -42,6 +45,15 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
         o.ballWalks = on;
     } else if (key == "nee") {
         o.nee = on;
+    } else if (key == "control_variate") {
+        o.controlVariate = on;
+    } else if (key == "control_probe") {
+        if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
+        o.controlProbe = float(value);
+    } else if (key == "control_walks") {
+        if (!(value >= 1024 && value <= 1e9) || value != double(int64_t(value)))
+            return "must be a whole number of walks in 1024..1e9";
+        o.controlWalks = int64_t(value);
     } else {
         throw std::invalid_argument("unknown printpt option '" + key + "'");
     }

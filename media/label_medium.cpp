@@ -72,6 +72,13 @@ FreeFlight LabelMedium::Sampler::sampleFreeFlightSpectral(const Ray& ray, float 
                          [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng, weight);
 }
 
+FreeFlight LabelMedium::Sampler::freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel,
+                                                   float opticalDepth) {
+    auto& acc = impl_->accessor;
+    return inverseTrack(medium_.toCellRay(ray), tMax_mm, opticalDepth, medium_.frame(), medium_.majorants_,
+                        medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
+}
+
 float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel) {
     auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,

@@ -54,6 +54,8 @@ public:
         // hero channel with log pdf ratios of the others, or spectral tracking.
         FreeFlight sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng, RGB& logRatio);
         FreeFlight sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight);
+        // The free flight at the given optical depth, by regular tracking.
+        FreeFlight freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel, float opticalDepth);
         // Exact transmittance by regular tracking along the ray up to tMax_mm.
         float transmittance(const Ray& ray, float tMax_mm, int channel);
         Label labelAt(const Vec3i& voxel);

@@ -4,6 +4,10 @@
 //    samples a free-flight distance with pdf sigma_t(t) T(t).
 //  - regularTrack: exact transmittance by 3D-DDA through the voxels
 //    (Amanatides-Woo), skipping void bricks and stepping whole uniform bricks.
+//  - inverseTrack: the free flight whose optical depth is a given value
+//    (inversion of the transmittance by the same DDA): two walks that share
+//    that value collide at the same place wherever their media agree
+//    (printpt's control variate).
 // Both take the label lookup as a template parameter so the hot loop inlines
 // the OpenVDB accessor (label_medium.cpp) or a dense array (tests).
 #pragma once
@@ -286,6 +290,38 @@ float regularTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
         if (tau > kOpaqueOpticalDepth) return 0.0f;
     }
     return std::exp(-tau);
+}
+
+// The collision at optical depth `opticalDepth` (an Exp(1) sample gives a
+// free flight with pdf sigma_t(t) T(t)), by regular tracking up to tMax_mm.
+template <class LabelLookup>
+FreeFlight inverseTrack(const CellRay& ray, float tMax_mm, float opticalDepth, const GridFrame& frame,
+                        const MajorantGrid& maj, const ChannelLut& lut, int channel, LabelLookup&& labelAt) {
+    float tau = 0.0f;
+    // Does [s0, s1) in label l reach the optical depth?
+    auto reaches = [&](Label l, float s0, float s1, FreeFlight& out) PL_ALWAYS_INLINE {
+        float sigma = lut.sigmaT_perMm[l];
+        float step = sigma * (s1 - s0);
+        if (tau + step < opticalDepth || sigma <= 0.0f) {
+            tau += step;
+            return false;
+        }
+        out = {true, std::min(s1, s0 + (opticalDepth - tau) / sigma), l};
+        return true;
+    };
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
+        if (maj.maxSigmaT(brick, channel) <= 0.0f) return false;
+        int sole = maj.soleLabel(brick);
+        if (sole >= 0) return reaches(Label(sole), tStart, tEnd, out);
+        Vec3i lo, hi;
+        brickVoxels(brick, frame, lo, hi);
+        GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
+        DdaSegment v;
+        while (voxels.next(v))
+            if (reaches(labelAt(v.cell), v.t0, v.t1, out)) return true;
+        return false;
+    };
+    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
 }
 
 }  // namespace pl

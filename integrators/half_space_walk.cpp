@@ -1,0 +1,113 @@
+#include "integrators/half_space_walk.h"
+
+#include <algorithm>
+#include <vector>
+
+#include <tbb/parallel_for.h>
+
+#include "core/fresnel.h"
+#include "core/sampling.h"
+#include "media/ball_walk.h"
+
+namespace pl {
+
+bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light) {
+    float t = opticalDepth / hs.sigmaT_perMm;
+    float towards = dot(w.d, hs.normal);
+    if (towards > 0.0f) {
+        float tPlane = std::max(0.0f, hs.depth(w.x)) / towards;
+        if (tPlane <= t) {
+            float F = fresnelDielectric(towards, hs.etaOut);
+            light += (1.0f - F) * w.weight;
+            w.weight *= F;
+            w.x = w.x + w.d * tPlane;
+            w.d = reflect(w.d, hs.normal);
+            return false;
+        }
+    }
+    w.x = w.x + w.d * t;
+    w.weight *= hs.albedo;
+    return true;
+}
+
+namespace {
+
+// Roulette and phase sampling after a collision; false if the walk ends.
+bool scatter(const HalfSpace& hs, HalfSpaceWalker& w, const RouletteRule& roulette, Rng& rng) {
+    float q = roulette.survival(w.weight);
+    if (q < 1.0f) {
+        if (!(rng.uniform() < q)) return false;
+        w.weight /= q;
+    }
+    float u0 = rng.uniform(), u1 = rng.uniform();
+    w.d = sampleHG(w.d, hs.g, u0, u1).dOut;
+    return true;
+}
+
+}  // namespace
+
+float finishHalfSpaceWalk(const HalfSpace& hs, HalfSpaceWalker w, bool atCollision, const RouletteRule& roulette,
+                          float ballMinMfp, Rng& rng, int64_t& collisions) {
+    float light = 0.0f;
+    if (atCollision && !scatter(hs, w, roulette, rng)) return light;
+    for (int reflections = 0; w.weight > 0.0f && reflections < 256;) {
+        // Deep enough: walk to the edge of the ball that touches the plane.
+        float radius_mm = hs.depth(w.x);
+        if (radius_mm * hs.sigmaT_perMm >= ballMinMfp) {
+            BallWalk b = walkInBall(
+                w.d, radius_mm, hs.sigmaT_perMm, hs.g,
+                [&](float) {
+                    w.weight *= hs.albedo;
+                    float q = roulette.survival(w.weight);
+                    if (q >= 1.0f) return true;
+                    if (!(rng.uniform() < q)) return false;
+                    w.weight /= q;
+                    return true;
+                },
+                rng);
+            collisions += b.collisions;
+            if (!b.alive) return light;
+            w.x = w.x + b.exit;
+            w.d = b.direction;
+            continue;
+        }
+        float opticalDepth = -std::log(1.0f - rng.uniform());
+        if (halfSpaceFlight(hs, w, opticalDepth, light)) {
+            collisions += 1;
+            reflections = 0;
+            if (!scatter(hs, w, roulette, rng)) return light;
+        } else {
+            reflections += 1;  // total internal reflection leaves the weight as it is
+        }
+    }
+    return light;
+}
+
+HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
+                                    int64_t walks, uint64_t seed) {
+    // Fixed chunks with their own streams, summed in order: the same result
+    // for any thread count.
+    constexpr int64_t kChunk = 4096;
+    const int64_t chunks = (walks + kChunk - 1) / kChunk;
+    std::vector<double> sum(size_t(chunks), 0.0), sumSq(size_t(chunks), 0.0);
+    tbb::parallel_for(int64_t(0), chunks, [&](int64_t c) {
+        Rng rng = Rng::forPath(seed, uint64_t(c), 0, 0);
+        int64_t collisions = 0;
+        for (int64_t i = c * kChunk; i < std::min(walks, (c + 1) * kChunk); ++i) {
+            HalfSpaceWalker w{hs.origin, -hs.normal, 1.0f};
+            double f = finishHalfSpaceWalk(hs, w, false, roulette, ballMinMfp, rng, collisions);
+            sum[size_t(c)] += f;
+            sumSq[size_t(c)] += f * f;
+        }
+    });
+    double s = 0, s2 = 0;
+    for (int64_t c = 0; c < chunks; ++c) {
+        s += sum[size_t(c)];
+        s2 += sumSq[size_t(c)];
+    }
+    double n = double(walks), mean = s / n;
+    double variance = std::max(0.0, (s2 - n * mean * mean) / (n - 1));
+    return {mean, std::sqrt(variance / n)};
+}
+
+}  // namespace pl

@@ -1,0 +1,72 @@
+// printpt's control variate: the same walk in a half-space of one
+// homogeneous material under a flat Fresnel boundary. Its mean, the light a
+// normally incident walk brings back out, depends only on the material and
+// the index of refraction, so it is estimated once per material and channel
+// with many cheap walks. A surface walk that shares its random numbers with
+// a half-space walk from its entry point (same optical depths, phase and
+// roulette numbers) mostly scatters where the other does; the estimate
+// f - g + mean(g) keeps the mean of f and loses the variance they share.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "core/rng.h"
+#include "core/vecmath.h"
+
+namespace pl {
+
+struct HalfSpace {
+    Point3f origin;  // a point of the boundary plane
+    Vec3f normal;    // outward unit normal of the plane
+    float sigmaT_perMm = 0, albedo = 0, g = 0;
+    float etaOut = 1;  // relative index seen from inside (1 / ior)
+
+    // Distance below the plane (mm).
+    float depth(const Point3f& x) const { return dot(origin - x, normal); }
+};
+
+// A walk in the half-space: position, direction, throughput.
+struct HalfSpaceWalker {
+    Point3f x;
+    Vec3f d;
+    float weight = 1;
+};
+
+// Russian roulette as printpt plays it: survival min(cap, weight / threshold).
+struct RouletteRule {
+    float threshold = 0.25f, cap = 1.0f;
+    float survival(float weight) const { return std::min(cap, weight / threshold); }
+};
+
+// Moves the walker by a free flight of the given optical depth: to a
+// collision (weight x albedo; returns true) or to the plane, where the
+// transmitted part (1 - F) x weight is added to light and the walker is
+// reflected with weight x F (returns false).
+bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light);
+
+// Light leaving the half-space from the walker's state on, with its own
+// random numbers; `atCollision`: the walker has just collided (roulette and
+// phase sampling are due). `collisions` counts the scattering events.
+float finishHalfSpaceWalk(const HalfSpace& hs, HalfSpaceWalker w, bool atCollision, const RouletteRule& roulette,
+                          float ballMinMfp, Rng& rng, int64_t& collisions);
+
+struct HalfSpaceMean {
+    double mean = 0, standardError = 0;
+};
+
+// The mean light a walk entering the half-space along -normal (at depth 0)
+// brings back out, from `walks` independent walks seeded by `seed`; the same
+// for any thread count.
+HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
+                                    int64_t walks, uint64_t seed);
+
+// The rotation taking unit vector a to unit vector b (a != -b), applied to v.
+inline Vec3f rotateAtoB(const Vec3f& a, const Vec3f& b, const Vec3f& v) {
+    Vec3f k = cross(a, b);
+    float c = dot(a, b);
+    return v * c + cross(k, v) + k * (dot(k, v) / (1.0f + c));
+}
+
+}  // namespace pl
