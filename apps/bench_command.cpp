@@ -124,13 +124,15 @@ struct Errors {
 
 constexpr uint32_t kMinSelfSpp = 4;
 
-// The film's own variance estimate as the expected squared error.
-Errors selfVariance(const Film& film) {
+// The film's own variance estimate as the expected squared error, plus the
+// variance every pixel shares (printpt's control means).
+Errors selfVariance(const Film& film, const RGB& shared) {
     double se[3] = {0, 0, 0}, rel = 0;
     size_t n = film.pixelCount();
     for (size_t p = 0; p < n; ++p)
         for (int c = 0; c < 3; ++c) {
-            double m = film.mean(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c);
+            double m = film.mean(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c) +
+                                            double(shared[c]) * shared[c];
             se[c] += v;
             rel += v / (m * m + 1e-3);
         }
@@ -304,7 +306,7 @@ int benchCommand(const std::vector<std::string>& argv) {
                 s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
-            Errors e = self ? selfVariance(r.film) : compare(r.film, *sensor, ref);
+            Errors e = self ? selfVariance(r.film, r.sharedStandardError) : compare(r.film, *sensor, ref);
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,

@@ -58,7 +58,8 @@ struct HalfSpaceMean {
 
 // The mean light a walk entering the half-space along -normal (at depth 0)
 // brings back out, from `walks` independent walks seeded by `seed`; the same
-// for any thread count.
+// for any thread count. Results are kept for the life of the process (a
+// render in rounds builds its integrator once per round).
 HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
                                     int64_t walks, uint64_t seed);
 

@@ -61,6 +61,9 @@ public:
     // channel uniformly) or Spectral sampling (channel_paths.h).
     virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
                       PathStats& stats) const = 0;
+    // A bound on the standard error that every pixel's estimate shares and
+    // the film's per-pixel errors do not see (printpt's control means).
+    virtual float sharedStandardError(int /*channel*/) const { return 0.0f; }
 };
 
 }  // namespace pl

@@ -1,9 +1,6 @@
 #include "integrators/printpt.h"
 
 #include <type_traits>
-#include <atomic>
-#include <cstdio>
-#include <cstdlib>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
@@ -270,6 +267,12 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
     return b.alive;
 }
 
+float PrintPt::sharedStandardError(int channel) const {
+    float worst = 0.0f;
+    for (float e : controlStdErr_[channel]) worst = std::max(worst, e);
+    return worst * scene_.environment[channel];
+}
+
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                          HalfSpace& control, float& mean) const {
     // The plane goes through the first point along the ray where the
@@ -360,11 +363,6 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
         }
         const bool collides = !hit;
         if (collides != controlCollides) {
-            if (std::getenv("PL_CVDBG")) {
-                static std::atomic<int64_t> nA{0}, nB{0};
-                (collides ? nA : nB) += 1;
-                if (((nA + nB) & 0xFFFF) == 0) fprintf(stderr, "part real-collides %ld real-boundary %ld depth %g bounces %ld\n", long(nA), long(nB), control.depth(c.x), long(bounces));
-            }
             // The events part: each walk goes on alone.
             float f = finishControl(controlCollides);
             if (collides) {

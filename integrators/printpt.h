@@ -82,6 +82,8 @@ public:
     // (single-channel only), and with ball walks for hero sampling only.
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
               PathStats& stats) const override;
+    // The largest standard error of the control means used in the channel.
+    float sharedStandardError(int channel) const override;
 
 private:
     // Camera ray to entry, Fresnel there, and the branches' walks.

@@ -32,6 +32,9 @@ struct RenderResult {
     Film film;
     PathStats stats;
     double seconds = 0;
+    // Standard error shared by every pixel, outside the film's per-pixel
+    // errors (Integrator::sharedStandardError); add it when judging a mean.
+    RGB sharedStandardError{0, 0, 0};
 };
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);

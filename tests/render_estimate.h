@@ -15,7 +15,8 @@ struct Estimate {
     RGB mean, standardError;
 };
 
-// Mean over all pixels, with the standard error of that mean.
+// Mean over all pixels, with the standard error of that mean (including
+// the error every pixel shares).
 inline Estimate renderMean(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
     RenderResult r = render(scene, sensor, settings);
     Estimate e{};
@@ -27,7 +28,8 @@ inline Estimate renderMean(const Scene& scene, const Sensor& sensor, const Rende
             var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
         }
         e.mean[c] = float(sum / n);
-        e.standardError[c] = float(std::sqrt(var) / n);
+        double shared = r.sharedStandardError[c];
+        e.standardError[c] = float(std::sqrt(var / (double(n) * n) + shared * shared));
     }
     return e;
 }
