@@ -88,12 +88,6 @@ float finishHalfSpaceWalk(const HalfSpace& hs, HalfSpaceWalker w, bool atCollisi
 
 HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
                                     int64_t walks, uint64_t seed) {
-    using Key = std::tuple<float, float, float, float, float, float, float, int64_t, uint64_t>;
-    static std::mutex mutex;
-    static std::map<Key, HalfSpaceMean> known;
-    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, roulette.threshold, roulette.cap, ballMinMfp, walks, seed};
-    std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = known.find(key); it != known.end()) return it->second;
     // Fixed chunks with their own streams, summed in order: the same result
     // for any thread count.
     constexpr int64_t kChunk = 4096;
@@ -116,7 +110,18 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
     }
     double n = double(walks), mean = s / n;
     double variance = std::max(0.0, (s2 - n * mean * mean) / (n - 1));
-    return known[key] = {mean, std::sqrt(variance / n)};
+    return {mean, std::sqrt(variance / n)};
+}
+
+HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
+                            uint64_t seed) {
+    using Key = std::tuple<float, float, float, float, float, float, float, int64_t, uint64_t>;
+    static std::mutex mutex;
+    static std::map<Key, HalfSpaceMean> known;
+    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, roulette.threshold, roulette.cap, ballMinMfp, walks, seed};
+    std::lock_guard<std::mutex> lock(mutex);
+    if (auto it = known.find(key); it != known.end()) return it->second;
+    return known[key] = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);
 }
 
 }  // namespace pl

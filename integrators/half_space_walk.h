@@ -58,10 +58,13 @@ struct HalfSpaceMean {
 
 // The mean light a walk entering the half-space along -normal (at depth 0)
 // brings back out, from `walks` independent walks seeded by `seed`; the same
-// for any thread count. Results are kept for the life of the process (a
-// render in rounds builds its integrator once per round).
+// for any thread count.
 HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
                                     int64_t walks, uint64_t seed);
+// The same, kept for the life of the process (a render in rounds builds
+// its integrator once per round).
+HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
+                            uint64_t seed);
 
 // The rotation taking unit vector a to unit vector b (a != -b), applied to v.
 inline Vec3f rotateAtoB(const Vec3f& a, const Vec3f& b, const Vec3f& v) {

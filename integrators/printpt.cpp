@@ -97,7 +97,7 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
                 if (voxels[l] == 0 || !(hs.sigmaT_perMm > 0.0f) || hs.albedo < PrintPtOptions::kAbsorbingAlbedo ||
                     hs.albedo > 0.999f)
                     continue;
-                HalfSpaceMean m = estimateHalfSpaceMean(hs, {options_.rrThreshold, options_.rrCap},
+                HalfSpaceMean m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap},
                                                         std::max(1.0f, options_.ballMinMfp), options_.controlWalks,
                                                         mix64(uint64_t(l) * 3 + uint64_t(c)));
                 controlMean_[c][l] = float(m.mean);
@@ -221,17 +221,16 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
 }
 
 template <class Path>
-float PrintPt::rouletteSurvival(const Path& path, Label label) const {
+float PrintPt::rouletteThreshold(const Path& path, Label label) const {
     // Absorbing ink ends walks soon anyway: an earlier roulette there saves
     // their tails at little variance; white keeps long weighted walks.
-    float threshold = path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing
-                                                                                     : options_.rrThreshold;
-    return std::min(options_.rrCap, path.rouletteValue() / threshold);
+    return path.rouletteAlbedo(label) < PrintPtOptions::kAbsorbingAlbedo ? options_.rrThresholdAbsorbing
+                                                                          : options_.rrThreshold;
 }
 
 template <class Path>
 bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
-    float q = rouletteSurvival(path, label);
+    float q = std::min(options_.rrCap, path.rouletteValue() / rouletteThreshold(path, label));
     if (q >= 1.0f) return true;
     if (!(rng.uniform() < q)) return false;
     path.scale(1.0f / q);
@@ -286,15 +285,22 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     if (mean < 0.0f) return false;
     const ChannelLut& lut = *path.lut;
     control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
-    // Near an edge or a thin part the walks part early and each goes on
-    // alone, which doubles the variance the control should have taken away:
-    // the control only runs where the object holds a ball of the probe's
-    // depth below the entry, in diffusion lengths of the material.
+    // Near an edge, in a thin part or under a curved surface the walks part
+    // early and each goes on alone, which adds variance instead of taking it
+    // away. The control only runs where, over the probe's reach (diffusion
+    // lengths of the material), the object holds a ball that deep below the
+    // entry and the surface stays within a quarter of a mean free path of
+    // the plane.
+    const Geometry& geometry = *scene_.geometry;
     float diffusionLength_mm =
         1.0f / (control.sigmaT_perMm * std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g)));
-    float probe_mm = options_.controlProbe * diffusionLength_mm;
-    auto nearest = scene_.geometry->closestPoint(control.origin + inside.d * probe_mm, probe_mm);
-    if (nearest && nearest->distance_mm < 0.9f * probe_mm) return false;
+    float reach_mm = options_.controlProbe * diffusionLength_mm;
+    auto nearest = geometry.closestPoint(control.origin + inside.d * reach_mm, reach_mm);
+    if (nearest && nearest->distance_mm < 0.9f * reach_mm) return false;
+    const float flat_mm = 0.25f / control.sigmaT_perMm;
+    const Frame plane(control.normal);
+    for (Vec3f along : {plane.s, -plane.s, plane.t, -plane.t})
+        if (!geometry.closestPoint(inside.o + along * reach_mm, flat_mm)) return false;
     mean *= path.Le;
     return true;
 }
@@ -312,6 +318,12 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
     int64_t bounces = 0, controlEvents = 0;
     bool deep = false;
     // The control walks on alone from its state (after its pending event).
+    // One roulette for both, on the larger weight: neither weight can grow
+    // past the threshold (in ink the surface walk's weight drops fast while
+    // the control's may not).
+    auto sharedSurvival = [&](Label label) {
+        return std::min(options_.rrCap, std::max(path.beta, c.weight) / rouletteThreshold(path, label));
+    };
     auto finishControl = [&](bool atCollision) {
         Lc += finishHalfSpaceWalk(control, c, atCollision, controlRoulette, controlBallMfp, rng, controlEvents);
         return L - Lc * path.Le;
@@ -331,7 +343,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
                                             [&](float) {
                                                 path.collide(label);
                                                 c.weight *= control.albedo;
-                                                float q = rouletteSurvival(path, label);
+                                                float q = sharedSurvival(label);
                                                 if (q >= 1.0f) return true;
                                                 if (!(rng.uniform() < q)) return false;
                                                 path.scale(1.0f / q);
@@ -385,12 +397,11 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             return f + (this->*walkSingle_)(ray, path, medium, rng, stats);
         }
         if (collides) {
-            // Both collide: shared roulette (the surface walk's survival
-            // probability, unbiased for both) and shared phase numbers.
+            // Both collide: shared roulette and phase numbers.
             stats.scatterEvents += 1;
             bounces = 0;
             path.collide(ff.label);
-            float q = rouletteSurvival(path, ff.label);
+            float q = sharedSurvival(ff.label);
             if (q < 1.0f) {
                 if (!(rng.uniform() < q)) return L - Lc * path.Le;
                 path.scale(1.0f / q);

@@ -103,7 +103,7 @@ private:
     template <class Path>
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
     template <class Path>
-    float rouletteSurvival(const Path& path, Label label) const;
+    float rouletteThreshold(const Path& path, Label label) const;
     // The walk of a single-channel branch with its half-space control:
     // returns f - g (the caller adds the control's mean).
     float walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control, LabelMedium::Sampler& medium,

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "integrators/half_space_walk.h"
 #include "integrators/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
@@ -178,6 +179,49 @@ TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
         for (size_t p = 0; p < a.film.pixelCount() && !differs; ++p) differs = a.film.mean(p, 0) != c.film.mean(p, 0);
         EXPECT_TRUE(differs) << int(sampling);
     }
+    // printpt's control variate (its walks share numbers with a half-space walk).
+    settings.channelSampling = ChannelSampling::Separate;
+    settings.integrator = "printpt";
+    settings.printpt.controlVariate = true;
+    settings.printpt.controlWalks = 4096;
+    settings.seed = 1234;
+    RenderResult a = renderWith(1), b = renderWith(2);
+    for (size_t p = 0; p < a.film.pixelCount(); ++p)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(a.film.mean(p, c), b.film.mean(p, c));
+}
+
+TEST(Determinism, HalfSpaceMeanIsTheSameForAnyThreadCount) {
+    HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 9.0f, 0.995f, 0.4f, 1.0f / 1.5f};
+    auto estimate = [&](int threads) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        return estimateHalfSpaceMean(hs, {0.25f, 1.0f}, 1.0f, 20000, 7);
+    };
+    HalfSpaceMean a = estimate(1), b = estimate(2);
+    EXPECT_EQ(a.mean, b.mean);
+    EXPECT_EQ(a.standardError, b.standardError);
+    EXPECT_GT(a.standardError, 0.0);
+}
+
+// The half-space walk against Chandrasekhar: with no boundary reflection and
+// isotropic scattering of albedo w, a half-space sends back 1 - H(1) sqrt(1 - w)
+// of normally incident light (H: Chandrasekhar's H-function, solved here by
+// iterating H(mu) = 1 / (1 - w/2 mu int_0^1 H(m) / (mu + m) dm)).
+TEST(HalfSpaceWalk, MatchesChandrasekharsAlbedo) {
+    const double w = 0.9;
+    const int n = 400;
+    std::vector<double> mu(n), H(n, 1.0);
+    for (int i = 0; i < n; ++i) mu[i] = (i + 0.5) / n;
+    auto integralAt = [&](double m) {
+        double s = 0;
+        for (int j = 0; j < n; ++j) s += H[j] / (m + mu[j]);
+        return s / n;
+    };
+    for (int iter = 0; iter < 100; ++iter)
+        for (int i = 0; i < n; ++i) H[i] = 1.0 / (1.0 - 0.5 * w * mu[i] * integralAt(mu[i]));
+    const double expected = 1.0 - std::sqrt(1.0 - w) / (1.0 - 0.5 * w * integralAt(1.0));
+    HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 2.0f, float(w), 0.0f, 1.0f};
+    HalfSpaceMean m = estimateHalfSpaceMean(hs, {1.0f, 1.0f}, 1.0f, 200000, 3);
+    EXPECT_NEAR(m.mean, expected, 4.0 * m.standardError + 2e-3) << "stderr " << m.standardError;
 }
 
 }  // namespace
