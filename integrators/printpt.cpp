@@ -2,6 +2,8 @@
 
 #include <type_traits>
 
+#include <tbb/task_arena.h>
+
 #include "core/fresnel.h"
 #include "core/sampling.h"
 #include "integrators/half_space_walk.h"
@@ -84,27 +86,11 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     Vec3f voxel = scene_.medium->frame().voxelSize_mm;
     minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
     walkSingle_ = selectWalk<SingleChannelPath>();
-    for (auto& m : controlMean_) m.fill(-1.0f);
-    for (auto& m : controlStdErr_) m.fill(-1.0f);
-    if (options_.controlVariate && !options_.nee) {
-        // The control's mean for every material in the grid that scatters
-        // enough for a long walk (absorbing resin ends walks by itself).
-        std::array<uint64_t, 256> voxels = scene_.medium->grid().histogram();
-        for (int c = 0; c < 3; ++c) {
-            const ChannelLut& lut = scene_.medium->lut(c);
-            for (int l = 0; l < 256; ++l) {
-                HalfSpace hs{{0, 0, 0}, {0, 0, 1}, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
-                if (voxels[l] == 0 || !(hs.sigmaT_perMm > 0.0f) || hs.albedo < PrintPtOptions::kAbsorbingAlbedo ||
-                    hs.albedo > 0.999f)
-                    continue;
-                HalfSpaceMean m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap},
-                                                        std::max(1.0f, options_.ballMinMfp), options_.controlWalks,
-                                                        mix64(uint64_t(l) * 3 + uint64_t(c)));
-                controlMean_[c][l] = float(m.mean);
-                controlStdErr_[c][l] = float(m.standardError);
-            }
+    for (int c = 0; c < 3; ++c)
+        for (int l = 0; l < 256; ++l) {
+            controlMean_[c][l].store(kControlUnknown, std::memory_order_relaxed);
+            controlStdErr_[c][l].store(0.0f, std::memory_order_relaxed);
         }
-    }
     walkHero_ = selectWalk<HeroPath>();
     walkSpectral_ = selectWalk<SpectralPath>();
 }
@@ -268,8 +254,27 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
 
 float PrintPt::sharedStandardError(int channel) const {
     float worst = 0.0f;
-    for (float e : controlStdErr_[channel]) worst = std::max(worst, e);
+    for (int l = 0; l < 256; ++l)
+        if (controlMean_[channel][l].load(std::memory_order_acquire) != kControlUnknown)
+            worst = std::max(worst, controlStdErr_[channel][l].load(std::memory_order_relaxed));
     return worst * scene_.environment[channel];
+}
+
+float PrintPt::controlMean(int channel, Label label) const {
+    float mean = controlMean_[channel][label].load(std::memory_order_acquire);
+    if (mean != kControlUnknown) return mean;
+    // First use: estimate it (the same bits whichever thread gets here
+    // first), kept from other render tiles while the estimate runs.
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    HalfSpace hs{{0, 0, 0}, {0, 0, 1}, lut.sigmaT_perMm[label], lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
+    HalfSpaceMean m;
+    tbb::this_task_arena::isolate([&] {
+        m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
+                          options_.controlWalks, mix64(uint64_t(label) * 3 + uint64_t(channel)));
+    });
+    controlStdErr_[channel][label].store(float(m.standardError), std::memory_order_relaxed);
+    controlMean_[channel][label].store(float(m.mean), std::memory_order_release);
+    return float(m.mean);
 }
 
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
@@ -280,28 +285,43 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // walks' collisions apart by its thickness.
     FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
     if (!first.scattered) return false;
-    Label l = first.label;
-    mean = controlMean_[path.channel][l];
-    if (mean < 0.0f) return false;
+    const Label l = first.label;
     const ChannelLut& lut = *path.lut;
+    // Absorbing resin ends walks by itself; a walk in albedo near 1 would
+    // make the control's mean slow to estimate.
+    if (lut.albedo[l] < PrintPtOptions::kAbsorbingAlbedo || lut.albedo[l] > 0.999f) return false;
     control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
-    // Near an edge, in a thin part or under a curved surface the walks part
-    // early and each goes on alone, which adds variance instead of taking it
-    // away. The control only runs where, over the probe's reach (diffusion
-    // lengths of the material), the object holds a ball that deep below the
-    // entry and the surface stays within a quarter of a mean free path of
-    // the plane.
+
+    // Where another material, an edge, a thin part or a curved surface lies
+    // within the walk's reach, the walks part early and each goes on alone,
+    // which adds variance instead of taking it away. The control only runs
+    // where, over the probe's reach (diffusion lengths of the material), the
+    // labels sampled below the entry are all its material, the surface stays
+    // within a quarter of a mean free path of the plane, and the object
+    // holds a ball that deep below the entry. Cheapest checks first.
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
+    const float reach_mm =
+        options_.controlProbe * mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
+    const Frame plane(control.normal);
+    const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
+    const Label voidLabel = scene_.medium->grid().voidLabel();
+    auto holdsMaterial = [&](const Point3f& p) {
+        Label m = medium.labelAt(scene_.medium->voxelAt(p));
+        return m == l || m == voidLabel;  // void: the skin above the first voxels
+    };
+    const Point3f below = control.origin + inside.d * (0.5f * mfp_mm);
+    for (float f : {0.25f, 0.5f, 1.0f}) {
+        if (!holdsMaterial(control.origin + inside.d * (f * reach_mm))) return false;
+        for (const Vec3f& along : alongPlane)
+            if (!holdsMaterial(below + along * (f * reach_mm))) return false;
+    }
     const Geometry& geometry = *scene_.geometry;
-    float diffusionLength_mm =
-        1.0f / (control.sigmaT_perMm * std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g)));
-    float reach_mm = options_.controlProbe * diffusionLength_mm;
+    for (const Vec3f& along : alongPlane)
+        if (!geometry.closestPoint(inside.o + along * reach_mm, 0.25f * mfp_mm)) return false;
     auto nearest = geometry.closestPoint(control.origin + inside.d * reach_mm, reach_mm);
     if (nearest && nearest->distance_mm < 0.9f * reach_mm) return false;
-    const float flat_mm = 0.25f / control.sigmaT_perMm;
-    const Frame plane(control.normal);
-    for (Vec3f along : {plane.s, -plane.s, plane.t, -plane.t})
-        if (!geometry.closestPoint(inside.o + along * reach_mm, flat_mm)) return false;
-    mean *= path.Le;
+
+    mean = controlMean(path.channel, l) * path.Le;
     return true;
 }
 

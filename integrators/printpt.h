@@ -45,6 +45,8 @@
 //    and the MIS weights count that probability, so nothing is biased.
 #pragma once
 
+#include <atomic>
+
 #include "integrators/half_space_walk.h"
 #include "integrators/integrator.h"
 
@@ -138,9 +140,12 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
-    // Per channel and label: the control's mean and its standard error
-    // (negative: no control for that material).
-    std::array<std::array<float, 256>, 3> controlMean_{}, controlStdErr_{};
+    // Per channel and label: the control's mean (estimated at first use)
+    // and its standard error.
+    static constexpr float kControlUnknown = -1.0f;
+    float controlMean(int channel, Label label) const;
+    mutable std::array<std::array<std::atomic<float>, 256>, 3> controlMean_;
+    mutable std::array<std::array<std::atomic<float>, 256>, 3> controlStdErr_;
 };
 
 }  // namespace pl

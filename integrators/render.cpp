@@ -22,8 +22,6 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     const std::vector<int> passes = onePass ? std::vector<int>{-1} : settings.channels;
     ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
     std::mutex statsMutex;
-    for (int c = 0; c < 3; ++c)
-        result.sharedStandardError[c] = std::max(result.sharedStandardError[c], integrator->sharedStandardError(c));
     for (int channel : passes) {
         parallelForTiles(n, 64, [&](size_t begin, size_t end) {
             LabelMedium::Sampler medium(*scene.medium);
@@ -66,6 +64,8 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     }
     throwIfInterrupted();
     progress.finish();
+    for (int c = 0; c < 3; ++c)
+        result.sharedStandardError[c] = std::max(result.sharedStandardError[c], integrator->sharedStandardError(c));
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
