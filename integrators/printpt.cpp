@@ -338,6 +338,10 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
     int64_t bounces = 0, controlEvents = 0;
     bool deep = false;
     // The control walks on alone from its state (after its pending event).
+    auto sameMaterial = [&](Label label) {
+        return path.lut->sigmaT_perMm[label] == control.sigmaT_perMm && path.lut->albedo[label] == control.albedo &&
+               path.lut->g[label] == control.g;
+    };
     // One roulette for both, on the larger weight: neither weight can grow
     // past the threshold (in ink the surface walk's weight drops fast while
     // the control's may not).
@@ -355,9 +359,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             // its plane: one ball walk for both (rotated onto the control).
             Label label;
             float radius_mm = std::min(homogeneousBall(ray.o, label), control.depth(c.x));
-            if (radius_mm > 0.0f && path.lut->sigmaT_perMm[label] == control.sigmaT_perMm &&
-                path.lut->albedo[label] == control.albedo && path.lut->g[label] == control.g &&
-                radius_mm * control.sigmaT_perMm >= options_.ballMinMfp && dot(ray.d, c.d) > -0.99f) {
+            if (radius_mm > 0.0f && sameMaterial(label) && radius_mm * control.sigmaT_perMm >= options_.ballMinMfp && dot(ray.d, c.d) > -0.99f) {
                 const Vec3f d0 = ray.d;
                 BallWalk b = pl::walkInBall(d0, radius_mm, control.sigmaT_perMm, control.g,
                                             [&](float) {
@@ -394,8 +396,10 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             return finishControl(controlCollides);
         }
         const bool collides = !hit;
-        if (collides != controlCollides) {
-            // The events part: each walk goes on alone.
+        // The events part (one collides where the other leaves, or the
+        // surface walk collides in another material, whose roulette the
+        // control should not share): each walk goes on alone.
+        if (collides != controlCollides || (collides && !sameMaterial(ff.label))) {
             float f = finishControl(controlCollides);
             if (collides) {
                 stats.scatterEvents += 1;
