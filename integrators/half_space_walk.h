@@ -1,11 +1,12 @@
 // printpt's control variate: the same walk in a half-space of one
 // homogeneous material under a flat Fresnel boundary. Its mean, the light a
-// normally incident walk brings back out, depends only on the material and
-// the index of refraction, so it is estimated once per material and channel
-// with many cheap walks. A surface walk that shares its random numbers with
-// a half-space walk from its entry point (same optical depths, phase and
-// roulette numbers) mostly scatters where the other does; the estimate
-// f - g + mean(g) keeps the mean of f and loses the variance they share.
+// normally incident walk brings back out, depends only on the albedo, g
+// and the index of refraction (sigma_t only scales the walk), so it is
+// estimated once for each such triple with many cheap walks. A surface
+// walk that shares its random numbers with a half-space walk from its entry
+// point (same optical depths, phase and roulette numbers) mostly scatters
+// where the other does; the estimate f - g + mean(g) keeps the mean of f
+// and loses the variance they share.
 #pragma once
 
 #include <cmath>

@@ -1,5 +1,6 @@
 #include "integrators/printpt.h"
 
+#include <cstring>
 #include <type_traits>
 
 #include <tbb/task_arena.h>
@@ -265,12 +266,22 @@ float PrintPt::controlMean(int channel, Label label) const {
     if (mean != kControlUnknown) return mean;
     // First use: estimate it (the same bits whichever thread gets here
     // first), kept from other render tiles while the estimate runs.
+    // The mean does not depend on sigma_t (it only scales the walk's
+    // lengths): estimated at sigma_t = 1, seeded by what it depends on, so
+    // that materials and channels of equal albedo and g (white resin's three
+    // channels) share one estimate.
     const ChannelLut& lut = scene_.medium->lut(channel);
-    HalfSpace hs{{0, 0, 0}, {0, 0, 1}, lut.sigmaT_perMm[label], lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
+    HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 1.0f, lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
+    uint64_t seed = 0;
+    for (float v : {hs.albedo, hs.g, hs.etaOut}) {
+        uint32_t bits;
+        std::memcpy(&bits, &v, sizeof bits);
+        seed = mix64(seed ^ bits);
+    }
     HalfSpaceMean m;
     tbb::this_task_arena::isolate([&] {
         m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
-                          options_.controlWalks, mix64(uint64_t(label) * 3 + uint64_t(channel)));
+                          options_.controlWalks, seed);
     });
     controlStdErr_[channel][label].store(float(m.standardError), std::memory_order_relaxed);
     controlMean_[channel][label].store(float(m.mean), std::memory_order_release);

@@ -224,5 +224,22 @@ TEST(HalfSpaceWalk, MatchesChandrasekharsAlbedo) {
     EXPECT_NEAR(m.mean, expected, 4.0 * m.standardError + 2e-3) << "stderr " << m.standardError;
 }
 
+// printpt estimates the control's mean once at sigma_t = 1 for every
+// material of the same albedo and g: sigma_t must only scale the walk.
+TEST(HalfSpaceWalk, MeanDoesNotDependOnSigmaT) {
+    const RouletteRule roulette{0.25f, 1.0f};
+    HalfSpace unit{{0, 0, 0}, {0, 0, 1}, 1.0f, 0.98f, 0.4f, 1.0f / 1.5f};
+    HalfSpace dense = unit;
+    dense.sigmaT_perMm = 24.0f;
+    HalfSpaceMean a = estimateHalfSpaceMean(unit, roulette, 1.0f, 100000, 5);
+    HalfSpaceMean b = estimateHalfSpaceMean(dense, roulette, 1.0f, 100000, 6);
+    const double combined = std::hypot(a.standardError, b.standardError);
+    EXPECT_NEAR(a.mean, b.mean, 4.0 * combined) << "stderr " << combined;
+    // A different albedo is told apart at this sample count.
+    HalfSpace darker = unit;
+    darker.albedo = 0.9f;
+    EXPECT_GT(a.mean - estimateHalfSpaceMean(darker, roulette, 1.0f, 100000, 7).mean, 8.0 * combined);
+}
+
 }  // namespace
 }  // namespace pl
