@@ -307,7 +307,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // within the walk's reach, the walks part early and each goes on alone,
     // which adds variance instead of taking it away. The control only runs
     // where, over the probe's reach (diffusion lengths of the material), the
-    // labels sampled below the entry are all its material, the surface stays
+    // bricks sampled below the entry hold only its material, the surface stays
     // within a quarter of a mean free path of the plane, and the object
     // holds a ball that deep below the entry. Cheapest checks first.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
@@ -315,10 +315,13 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
         options_.controlProbe * mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
     const Frame plane(control.normal);
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
-    const Label voidLabel = scene_.medium->grid().voidLabel();
+    // Whole bricks, not single voxels: a halftone's sparse dots are seen.
+    const MajorantGrid& bricks = scene_.medium->majorants();
     auto holdsMaterial = [&](const Point3f& p) {
-        Label m = medium.labelAt(scene_.medium->voxelAt(p));
-        return m == l || m == voidLabel;  // void: the skin above the first voxels
+        Vec3i b = MajorantGrid::brickOf(scene_.medium->voxelAt(p));
+        if (!bricks.containsBrick(b)) return true;  // void outside the grid
+        int solid = bricks.solidLabel(b);
+        return solid == int(l) || solid == MajorantGrid::kOnlyVoid;  // void: the skin above the first voxels
     };
     const Point3f below = control.origin + inside.d * (0.5f * mfp_mm);
     for (float f : {0.25f, 0.5f, 1.0f}) {

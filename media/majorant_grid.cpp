@@ -17,8 +17,7 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
 
     constexpr float inf = std::numeric_limits<float>::infinity();
     std::vector<Bounds> b(count);
-    constexpr int kUnset = -2;
-    for (Bounds& x : b) x = {{-inf, -inf, -inf}, {inf, inf, inf}, kUnset};
+    for (Bounds& x : b) x = {{-inf, -inf, -inf}, {inf, inf, inf}, kNoLabelYet, kOnlyVoid};
     std::vector<uint32_t> covered(count, 0);
     auto include = [&](size_t i, Label l, uint32_t n) {
         for (int c = 0; c < 3; ++c) {
@@ -27,7 +26,7 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
             b[i].minSigmaT[c] = std::min(b[i].minSigmaT[c], s);
         }
         covered[i] += n;
-        b[i].soleLabel = b[i].soleLabel == kUnset || b[i].soleLabel == int(l) ? int(l) : -1;
+        b[i].see(int(l), grid.voidLabel());
     };
 
     // Stored tiles and voxels.
@@ -80,7 +79,7 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
         if (done[i]) continue;
         done[i] = 1;
         // The brick's voxels inside the frame, one by one.
-        Bounds x{{-inf, -inf, -inf}, {inf, inf, inf}, -2};
+        Bounds x{{-inf, -inf, -inf}, {inf, inf, inf}, kNoLabelYet, kOnlyVoid};
         for (int z = std::max(lo.z, b.z << kBrickLog2); z < std::min(hi.z, (b.z + 1) << kBrickLog2); ++z)
             for (int y = std::max(lo.y, b.y << kBrickLog2); y < std::min(hi.y, (b.y + 1) << kBrickLog2); ++y)
                 for (int xx = std::max(lo.x, b.x << kBrickLog2); xx < std::min(hi.x, (b.x + 1) << kBrickLog2); ++xx) {
@@ -89,7 +88,7 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
                         x.maxSigmaT[c] = std::max(x.maxSigmaT[c], luts[c].sigmaT_perMm[l]);
                         x.minSigmaT[c] = std::min(x.minSigmaT[c], luts[c].sigmaT_perMm[l]);
                     }
-                    x.soleLabel = x.soleLabel == -2 || x.soleLabel == int(l) ? int(l) : -1;
+                    x.see(int(l), grid.voidLabel());
                 }
         bricks_[i] = x;
     }

@@ -33,6 +33,15 @@ public:
     // The label of every voxel of the brick, or -1 if it holds several:
     // trackers need no grid lookup in a one-label brick.
     int soleLabel(const Vec3i& brick) const { return at(brick).soleLabel; }
+    // The one label other than void the brick holds: -1 if it holds several,
+    // kOnlyVoid if none. printpt's control variate asks whether a region is
+    // one resin (the void skin between the mesh and the voxels aside).
+    static constexpr int kOnlyVoid = -2;
+    int solidLabel(const Vec3i& brick) const { return at(brick).solidLabel; }
+    bool containsBrick(const Vec3i& b) const {
+        return b.x >= brickMin_.x && b.y >= brickMin_.y && b.z >= brickMin_.z && b.x < brickMax_.x &&
+               b.y < brickMax_.y && b.z < brickMax_.z;
+    }
     // How many bricks around this one (Chebyshev distance) hold only its
     // label: 0 for a mixed brick or one next to another label or the frame's
     // edge. A ball around a point of the brick with radius up to
@@ -50,10 +59,17 @@ public:
     }
 
 private:
+    static constexpr int kNoLabelYet = -2;  // soleLabel before any voxel is seen
     struct Bounds {
         RGB maxSigmaT{0, 0, 0};
         RGB minSigmaT{0, 0, 0};
         int soleLabel = -1;
+        int solidLabel = kOnlyVoid;
+        // Adds label l to the labels seen.
+        void see(int l, Label voidLabel) {
+            soleLabel = soleLabel == kNoLabelYet || soleLabel == l ? l : -1;
+            if (l != int(voidLabel)) solidLabel = solidLabel == kOnlyVoid || solidLabel == l ? l : -1;
+        }
     };
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
     void computeUniformReach();

@@ -87,6 +87,40 @@ TEST(MajorantGrid, UniformReachMatchesBruteForce) {
     EXPECT_GT(deep, 10);  // the test must see bricks with a real reach
 }
 
+// The solid label of a brick is its one label other than void, whatever the
+// void voxels around it (the skin between the mesh and the voxels).
+TEST(MajorantGrid, SolidLabelIgnoresVoid) {
+    const Vec3i res{45, 37, 29};
+    LabelGrid grid = test::boxGrid(res, {0.05f, 0.05f, 0.05f}, [](const Vec3i& v) {
+        if (v.x < 13) return test::kTestVoid;
+        if (v.x == 30 && v.y % 9 == 0 && v.z % 7 == 0) return Label(3);  // sparse dots
+        return Label(4);
+    });
+    std::array<ChannelLut, 3> luts;
+    for (ChannelLut& lut : luts)
+        for (int l = 0; l < 256; ++l) lut.sigmaT_perMm[l] = float(l + 1);
+    MajorantGrid maj(grid, luts);
+    int counts[3] = {0, 0, 0};  // only void, white (and void), mixed
+    for (int bz = maj.brickMin().z; bz < maj.brickMax().z; ++bz)
+        for (int by = maj.brickMin().y; by < maj.brickMax().y; ++by)
+            for (int bx = maj.brickMin().x; bx < maj.brickMax().x; ++bx) {
+                int expected = MajorantGrid::kOnlyVoid;
+                for (int z = bz * 8; z < std::min(res.z, bz * 8 + 8); ++z)
+                    for (int y = by * 8; y < std::min(res.y, by * 8 + 8); ++y)
+                        for (int x = bx * 8; x < std::min(res.x, bx * 8 + 8); ++x) {
+                            int l = grid.label({x, y, z});
+                            if (l == grid.voidLabel()) continue;
+                            expected = expected == MajorantGrid::kOnlyVoid || expected == l ? l : -1;
+                        }
+                ASSERT_EQ(maj.solidLabel({bx, by, bz}), expected) << bx << "," << by << "," << bz;
+                counts[expected == MajorantGrid::kOnlyVoid ? 0 : expected == 4 ? 1 : 2] += 1;
+            }
+    // Bricks of each kind, including white next to void (x from 8 to 15).
+    EXPECT_GT(counts[0], 0);
+    EXPECT_GT(counts[1], 0);
+    EXPECT_GT(counts[2], 0);
+}
+
 }  // namespace
 }  // namespace pl
 
@@ -132,6 +166,7 @@ TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
                     EXPECT_EQ(maj.minSigmaT(b, c), full.minSigmaT(b, c));
                 }
                 EXPECT_EQ(maj.soleLabel(b), full.soleLabel(b)) << bx << " " << by << " " << bz;
+                EXPECT_EQ(maj.solidLabel(b), full.solidLabel(b)) << bx << " " << by << " " << bz;
                 EXPECT_EQ(maj.uniformReach(b), full.uniformReach(b));
             }
     for (int c = 0; c < 3; ++c) EXPECT_EQ(maj.globalMaxSigmaT(c), full.globalMaxSigmaT(c));
