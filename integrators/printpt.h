@@ -27,11 +27,13 @@
 //    depths, phase and roulette numbers; its flights are sampled by
 //    inverting the optical depth, so the two collide at the same places
 //    wherever the media agree). Until their events part (one collides where
-//    the other leaves), they add the same light; after that the half-space
-//    walk finishes on its own. The estimate is f - g + E[g], with E[g]
-//    estimated once per material and channel with `controlWalks` cheap
-//    walks (integrators/half_space_walk.h). Only for entry materials that
-//    scatter (albedo in [kAbsorbingAlbedo, 0.999]);
+//    the other leaves, or the surface walk collides in another material),
+//    they add the same light; after that the half-space walk finishes on
+//    its own. The estimate is f - g + E[g], with E[g] estimated once per
+//    (albedo, g) with `controlWalks` cheap walks
+//    (integrators/half_space_walk.h). Only for entry materials that scatter
+//    (albedo in [kAbsorbingAlbedo, 0.999]) and where probes find the resin
+//    one material and the surface flat over the walk's reach (controlFor);
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
@@ -69,7 +71,7 @@ struct PrintPtOptions {
     // The threshold at collisions in absorbing resin (albedo below
     // kAbsorbingAlbedo in the path's channel: the inks and black).
     float rrThresholdAbsorbing = 1.0f;
-    bool controlVariate = false;
+    bool controlVariate = true;  // measured: docs/performance.md
     int64_t controlWalks = int64_t(1) << 17;
     float controlProbe = 0.7f;  // diffusion lengths (see controlFor)
 };

@@ -77,6 +77,7 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
         };
         const Config configs[] = {
             {"defaults", PrintPtOptions{}},
+            {"no control variate", with([](PrintPtOptions& o) { o.controlVariate = false; })},
             {"roulette below 0.1 in ink, analog elsewhere",
              with([](PrintPtOptions& o) { o.rrThreshold = 1.0f, o.rrThresholdAbsorbing = 0.1f; })},
             {"Brecka's roulette (cap 0.99, analog)",
