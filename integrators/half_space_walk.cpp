@@ -118,7 +118,8 @@ HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, f
     using Key = std::tuple<float, float, float, float, float, float, float, int64_t, uint64_t>;
     static std::mutex mutex;
     static std::map<Key, HalfSpaceMean> known;
-    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, roulette.threshold, roulette.cap, ballMinMfp, walks, seed};
+    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, roulette.threshold,
+                  roulette.cap, ballMinMfp, walks, seed};
     std::lock_guard<std::mutex> lock(mutex);
     if (auto it = known.find(key); it != known.end()) return it->second;
     return known[key] = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);

@@ -373,7 +373,8 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             // its plane: one ball walk for both (rotated onto the control).
             Label label;
             float radius_mm = std::min(homogeneousBall(ray.o, label), control.depth(c.x));
-            if (radius_mm > 0.0f && sameMaterial(label) && radius_mm * control.sigmaT_perMm >= options_.ballMinMfp && dot(ray.d, c.d) > -0.99f) {
+            if (radius_mm > 0.0f && sameMaterial(label) && radius_mm * control.sigmaT_perMm >= options_.ballMinMfp &&
+                dot(ray.d, c.d) > -0.99f) {
                 const Vec3f d0 = ray.d;
                 BallWalk b = pl::walkInBall(d0, radius_mm, control.sigmaT_perMm, control.g,
                                             [&](float) {
