@@ -73,7 +73,7 @@ struct PrintPtOptions {
     float rrThresholdAbsorbing = 1.0f;
     bool controlVariate = true;  // measured: docs/performance.md
     int64_t controlWalks = int64_t(1) << 17;
-    float controlProbe = 0.7f;  // diffusion lengths (see controlFor)
+    float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
 };
 
 class PrintPt : public Integrator {
