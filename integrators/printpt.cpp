@@ -294,6 +294,10 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // medium can scatter: the mesh and the voxels' edges do not line up, and
     // a skin of void voxels inside the mesh would otherwise shift the two
     // walks' collisions apart by its thickness.
+    // Cheapest first: under a halftone the entry's brick holds several resins.
+    const MajorantGrid& bricks = scene_.medium->majorants();
+    const Vec3i entryBrick = MajorantGrid::brickOf(scene_.medium->voxelAt(inside.o));
+    if (bricks.containsBrick(entryBrick) && bricks.solidLabel(entryBrick) == -1) return false;
     FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
     if (!first.scattered) return false;
     const Label l = first.label;
@@ -316,7 +320,6 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     const Frame plane(control.normal);
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
     // Whole bricks, not single voxels: a halftone's sparse dots are seen.
-    const MajorantGrid& bricks = scene_.medium->majorants();
     auto holdsMaterial = [&](const Point3f& p) {
         Vec3i b = MajorantGrid::brickOf(scene_.medium->voxelAt(p));
         if (!bricks.containsBrick(b)) return true;  // void outside the grid
