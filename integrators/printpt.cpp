@@ -290,14 +290,14 @@ float PrintPt::controlMean(int channel, Label label) const {
 
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                          HalfSpace& control, float& mean) const {
-    // The plane goes through the first point along the ray where the
-    // medium can scatter: the mesh and the voxels' edges do not line up, and
-    // a skin of void voxels inside the mesh would otherwise shift the two
-    // walks' collisions apart by its thickness.
     // Cheapest first: under a halftone the entry's brick holds several resins.
     const MajorantGrid& bricks = scene_.medium->majorants();
     const Vec3i entryBrick = MajorantGrid::brickOf(scene_.medium->voxelAt(inside.o));
     if (bricks.containsBrick(entryBrick) && bricks.solidLabel(entryBrick) == -1) return false;
+    // The plane goes through the first point along the ray where the
+    // medium can scatter: the mesh and the voxels' edges do not line up, and
+    // a skin of void voxels inside the mesh would otherwise shift the two
+    // walks' collisions apart by its thickness.
     FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
     if (!first.scattered) return false;
     const Label l = first.label;
