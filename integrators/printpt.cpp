@@ -292,8 +292,8 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
                          HalfSpace& control, float& mean) const {
     // Cheapest first: under a halftone the entry's brick holds several resins.
     const MajorantGrid& bricks = scene_.medium->majorants();
-    const Vec3i entryBrick = MajorantGrid::brickOf(scene_.medium->voxelAt(inside.o));
-    if (bricks.containsBrick(entryBrick) && bricks.solidLabel(entryBrick) == -1) return false;
+    auto solidLabelAt = [&](const Point3f& p) { return bricks.solidLabelAt(scene_.medium->voxelAt(p)); };
+    if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return false;
     // The plane goes through the first point along the ray where the
     // medium can scatter: the mesh and the voxels' edges do not line up, and
     // a skin of void voxels inside the mesh would otherwise shift the two
@@ -321,9 +321,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
     // Whole bricks, not single voxels: a halftone's sparse dots are seen.
     auto holdsMaterial = [&](const Point3f& p) {
-        Vec3i b = MajorantGrid::brickOf(scene_.medium->voxelAt(p));
-        if (!bricks.containsBrick(b)) return true;  // void outside the grid
-        int solid = bricks.solidLabel(b);
+        int solid = solidLabelAt(p);
         return solid == int(l) || solid == MajorantGrid::kOnlyVoid;  // void: the skin above the first voxels
     };
     const Point3f below = control.origin + inside.d * (0.5f * mfp_mm);

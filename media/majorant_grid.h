@@ -33,14 +33,18 @@ public:
     // The label of every voxel of the brick, or -1 if it holds several:
     // trackers need no grid lookup in a one-label brick.
     int soleLabel(const Vec3i& brick) const { return at(brick).soleLabel; }
-    // The one label other than void the brick holds: -1 if it holds several,
-    // kOnlyVoid if none. printpt's control variate asks whether a region is
-    // one resin (the void skin between the mesh and the voxels aside).
-    static constexpr int kOnlyVoid = -2;
+    // The one label other than void the brick holds: kSeveralLabels if it
+    // holds several, kOnlyVoid if none. printpt's control variate asks
+    // whether a region is one resin (the void skin between the mesh and the
+    // voxels aside).
+    static constexpr int kSeveralLabels = -1, kOnlyVoid = -2;
     int solidLabel(const Vec3i& brick) const { return at(brick).solidLabel; }
-    bool containsBrick(const Vec3i& b) const {
-        return b.x >= brickMin_.x && b.y >= brickMin_.y && b.z >= brickMin_.z && b.x < brickMax_.x &&
-               b.y < brickMax_.y && b.z < brickMax_.z;
+    // The same for the brick of a voxel; void surrounds the grid.
+    int solidLabelAt(const Vec3i& voxel) const {
+        const Vec3i b = brickOf(voxel);
+        const bool inside = b.x >= brickMin_.x && b.y >= brickMin_.y && b.z >= brickMin_.z && b.x < brickMax_.x &&
+                            b.y < brickMax_.y && b.z < brickMax_.z;
+        return inside ? solidLabel(b) : kOnlyVoid;
     }
     // How many bricks around this one (Chebyshev distance) hold only its
     // label: 0 for a mixed brick or one next to another label or the frame's
@@ -68,7 +72,7 @@ private:
         // Adds label l to the labels seen.
         void see(int l, Label voidLabel) {
             soleLabel = soleLabel == kNoLabelYet || soleLabel == l ? l : -1;
-            if (l != int(voidLabel)) solidLabel = solidLabel == kOnlyVoid || solidLabel == l ? l : -1;
+            if (l != int(voidLabel)) solidLabel = solidLabel == kOnlyVoid || solidLabel == l ? l : kSeveralLabels;
         }
     };
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
