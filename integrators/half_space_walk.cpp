@@ -16,21 +16,31 @@ namespace pl {
 
 bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light) {
     float t = opticalDepth / hs.sigmaT_perMm;
-    float towards = dot(w.d, hs.normal);
-    if (towards > 0.0f) {
-        float tPlane = std::max(0.0f, hs.depth(w.x)) / towards;
+    // The boundary plane the flight reaches first, if it reaches one.
+    const Vec3f* crossed = nullptr;
+    float cosCrossed = 0.0f;
+    auto reach = [&](const Point3f& origin, const Vec3f& normal) {
+        float towards = dot(w.d, normal);
+        if (towards <= 0.0f) return;
+        float tPlane = std::max(0.0f, dot(origin - w.x, normal)) / towards;
         if (tPlane <= t) {
-            float F = fresnelDielectric(towards, hs.etaOut);
-            light += (1.0f - F) * w.weight;
-            w.weight *= F;
-            w.x = w.x + w.d * tPlane;
-            w.d = reflect(w.d, hs.normal);
-            return false;
+            t = tPlane;
+            crossed = &normal;
+            cosCrossed = towards;
         }
-    }
+    };
+    reach(hs.origin, hs.normal);
+    if (hs.hasSide) reach(hs.sideOrigin, hs.sideNormal);
     w.x = w.x + w.d * t;
-    w.weight *= hs.albedo;
-    return true;
+    if (!crossed) {
+        w.weight *= hs.albedo;
+        return true;
+    }
+    float F = fresnelDielectric(cosCrossed, hs.etaOut);
+    light += (1.0f - F) * w.weight;
+    w.weight *= F;
+    w.d = reflect(w.d, *crossed);
+    return false;
 }
 
 namespace {
@@ -115,10 +125,11 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
 
 HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                             uint64_t seed) {
-    using Key = std::tuple<float, float, float, float, float, float, float, int64_t, uint64_t>;
+    using Key = std::tuple<float, float, float, float, float, float, float, float, int64_t, uint64_t>;
     static std::mutex mutex;
     static std::map<Key, HalfSpaceMean> known;
-    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, roulette.threshold,
+    const float side_mm = hs.hasSide ? dot(hs.sideOrigin - hs.origin, hs.sideNormal) : -1.0f;
+    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, roulette.threshold,
                   roulette.cap, ballMinMfp, walks, seed};
     std::lock_guard<std::mutex> lock(mutex);
     if (auto it = known.find(key); it != known.end()) return it->second;

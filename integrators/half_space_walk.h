@@ -6,9 +6,13 @@
 // walk that shares its random numbers with a half-space walk from its entry
 // point (same optical depths, phase and roulette numbers) mostly scatters
 // where the other does; the estimate f - g + mean(g) keeps the mean of f
-// and loses the variance they share.
+// and loses the variance they share. Near an edge of the object the
+// control is a wedge instead: the half-space cut by a second plane, the
+// side face, at right angles; its mean also depends on the distance from
+// the entry to the edge, so it is tabulated over that distance.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -23,10 +27,33 @@ struct HalfSpace {
     Vec3f normal;    // outward unit normal of the plane
     float sigmaT_perMm = 0, albedo = 0, g = 0;
     float etaOut = 1;  // relative index seen from inside (1 / ior)
+    // The side face of an edge, if any: the region is then the wedge below
+    // both planes (sideNormal outward, at right angles to normal).
+    bool hasSide = false;
+    Point3f sideOrigin;
+    Vec3f sideNormal;
 
-    // Distance below the plane (mm).
-    float depth(const Point3f& x) const { return dot(origin - x, normal); }
+    // Distance from x inside to the region's boundary (mm).
+    float depth(const Point3f& x) const {
+        float d = dot(origin - x, normal);
+        return hasSide ? std::min(d, dot(sideOrigin - x, sideNormal)) : d;
+    }
 };
+
+// The distances from the entry to the edge (mean free paths) at which wedge
+// controls are tabulated: every quarter up to 4, then 6.25 % apart. The
+// control's side plane is put at the tabulated distance nearest the real
+// edge's (its mean is known there); the walks part where the two differ.
+constexpr int kEdgeSteps = 49;
+inline float edgeDistance_mfp(int step) {
+    return step <= 16 ? 0.25f * float(step) : 4.0f * std::pow(1.0625f, float(step - 16));
+}
+// The step nearest to d_mfp, or -1 beyond the table.
+inline int nearestEdgeStep(float d_mfp) {
+    int step = d_mfp <= 4.0f ? int(std::lround(std::max(0.0f, d_mfp) * 4.0f))
+                             : 16 + int(std::lround(std::log(d_mfp / 4.0f) / std::log(1.0625f)));
+    return step < kEdgeSteps ? step : -1;
+}
 
 // A walk in the half-space: position, direction, throughput.
 struct HalfSpaceWalker {
@@ -42,7 +69,8 @@ struct RouletteRule {
 };
 
 // Moves the walker by a free flight of the given optical depth: to a
-// collision (weight x albedo; returns true) or to the plane, where the
+// collision (weight x albedo; returns true) or to the nearer plane it
+// reaches, where the
 // transmitted part (1 - F) x weight is added to light and the walker is
 // reflected with weight x F (returns false).
 bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light);

@@ -87,11 +87,13 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     Vec3f voxel = scene_.medium->frame().voxelSize_mm;
     minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
     walkSingle_ = selectWalk<SingleChannelPath>();
-    for (int c = 0; c < 3; ++c)
-        for (int l = 0; l < 256; ++l) {
-            controlMean_[c][l].store(kControlUnknown, std::memory_order_relaxed);
-            controlStdErr_[c][l].store(0.0f, std::memory_order_relaxed);
-        }
+    const size_t controls = controlIndex(3, 0, 0);
+    controlMean_.reset(new std::atomic<float>[controls]);
+    controlStdErr_.reset(new std::atomic<float>[controls]);
+    for (size_t i = 0; i < controls; ++i) {
+        controlMean_[i].store(kControlUnknown, std::memory_order_relaxed);
+        controlStdErr_[i].store(0.0f, std::memory_order_relaxed);
+    }
     walkHero_ = selectWalk<HeroPath>();
     walkSpectral_ = selectWalk<SpectralPath>();
 }
@@ -255,20 +257,22 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
 
 float PrintPt::sharedStandardError(int channel) const {
     float worst = 0.0f;
-    for (int l = 0; l < 256; ++l)
-        if (controlMean_[channel][l].load(std::memory_order_acquire) != kControlUnknown)
-            worst = std::max(worst, controlStdErr_[channel][l].load(std::memory_order_relaxed));
+    for (size_t i = controlIndex(channel, 0, 0); i < controlIndex(channel + 1, 0, 0); ++i)
+        if (controlMean_[i].load(std::memory_order_acquire) != kControlUnknown)
+            worst = std::max(worst, controlStdErr_[i].load(std::memory_order_relaxed));
     return worst * scene_.environment[channel];
 }
 
-float PrintPt::controlMean(int channel, Label label) const {
-    float mean = controlMean_[channel][label].load(std::memory_order_acquire);
+float PrintPt::controlMean(int channel, Label label, int edgeStep) const {
+    const size_t index = controlIndex(channel, label, edgeStep + 1);
+    float mean = controlMean_[index].load(std::memory_order_acquire);
     if (mean != kControlUnknown) return mean;
     // First use: estimate it (the same bits whichever thread gets here
     // first), kept from other render tiles while the estimate runs.
     // The mean does not depend on sigma_t (it only scales the walk's
-    // lengths): estimated at sigma_t = 1, seeded by what it depends on, so
-    // that materials and channels of equal albedo and g (white resin's three
+    // lengths, the edge's distance included, which is in mean free paths):
+    // estimated at sigma_t = 1, seeded by what it depends on, so that
+    // materials and channels of equal albedo and g (white resin's three
     // channels) share one estimate.
     const ChannelLut& lut = scene_.medium->lut(channel);
     HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 1.0f, lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
@@ -278,14 +282,60 @@ float PrintPt::controlMean(int channel, Label label) const {
         std::memcpy(&bits, &v, sizeof bits);
         seed = mix64(seed ^ bits);
     }
+    // The wedges, one per tabulated edge distance, are many: a quarter of
+    // the walks each (their shared error is still far below a pixel's).
+    int64_t walks = options_.controlWalks;
+    if (edgeStep >= 0) {
+        hs.hasSide = true;
+        hs.sideNormal = {1, 0, 0};
+        hs.sideOrigin = {edgeDistance_mfp(edgeStep), 0, 0};
+        seed = mix64(seed ^ (uint64_t(edgeStep) + 1));
+        walks = std::max<int64_t>(1024, walks / 4);
+    }
     HalfSpaceMean m;
     tbb::this_task_arena::isolate([&] {
-        m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
-                          options_.controlWalks, seed);
+        m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp), walks,
+                          seed);
     });
-    controlStdErr_[channel][label].store(float(m.standardError), std::memory_order_relaxed);
-    controlMean_[channel][label].store(float(m.mean), std::memory_order_release);
+    controlStdErr_[index].store(float(m.standardError), std::memory_order_relaxed);
+    controlMean_[index].store(float(m.mean), std::memory_order_release);
     return float(m.mean);
+}
+
+bool PrintPt::findEdge(HalfSpace& control, float reach_mm, int& edgeStep, float& edge_mm) const {
+    control.hasSide = false;
+    edgeStep = -1;
+    if (reach_mm <= 0.0f) return true;
+    // Rays along the plane, half a mean free path down, in eight directions;
+    // every face they leave through must be the same one.
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
+    const Frame plane(control.normal);
+    const Point3f from = control.origin - control.normal * (0.5f * mfp_mm);
+    std::optional<SurfaceHit> side;
+    for (int i = 0; i < 8; ++i) {
+        const float angle = float(i) * (kPi / 4.0f);
+        const Vec3f along = plane.s * std::cos(angle) + plane.t * std::sin(angle);
+        auto hit = scene_.geometry->intersect({from, along}, 1.5f * reach_mm);
+        if (!hit) continue;
+        if (dot(along, hit->ng) <= 0.0f) return false;  // an inner face: the object is not convex here
+        if (!side) {
+            side = hit;
+        } else if (std::abs(dot(hit->p - side->p, side->ng)) > 0.25f * mfp_mm || dot(hit->ng, side->ng) < 0.999f) {
+            return false;  // two faces: a corner, or a thin part
+        }
+    }
+    if (!side) return true;
+    // Right angles only: the table is over the edge's distance alone.
+    if (std::abs(dot(side->ng, control.normal)) > 0.02f) return false;
+    const Vec3f toEdge = normalize(side->ng - control.normal * dot(side->ng, control.normal));
+    edge_mm = dot(side->p - control.origin, side->ng) / dot(toEdge, side->ng);
+    if (edge_mm > reach_mm) return true;  // beyond the walk's reach: the half-space's own probes decide
+    edgeStep = nearestEdgeStep(edge_mm / mfp_mm);
+    if (edgeStep < 0) return true;
+    control.hasSide = true;
+    control.sideNormal = toEdge;
+    control.sideOrigin = control.origin + toEdge * (edgeDistance_mfp(edgeStep) * mfp_mm);
+    return true;
 }
 
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
@@ -307,19 +357,21 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     if (lut.albedo[l] < PrintPtOptions::kAbsorbingAlbedo || lut.albedo[l] > 0.999f) return false;
     control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
 
-    // Where another material, an edge, a thin part or a curved surface lies
+    // Where another material, a corner, a thin part or a curved surface lies
     // within the walk's reach, the walks part early and each goes on alone,
     // which adds variance instead of taking it away. The control only runs
     // where, over the probe's reach (diffusion lengths of the material), the
     // bricks sampled below the entry hold only its material, the surface stays
-    // within a quarter of a mean free path of the plane, and the object
-    // holds a ball that deep below the entry. Cheapest checks first.
+    // within a quarter of a mean free path of the plane (and of the side
+    // face, near a right-angled edge: the control is then the wedge), and
+    // the object holds a ball that deep below the entry. Cheapest first.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
-    const float reach_mm =
-        options_.controlProbe * mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
+    const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
+    const float reach_mm = options_.controlProbe * diffusion_mm;
     const Frame plane(control.normal);
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
     // Whole bricks, not single voxels: a halftone's sparse dots are seen.
+    // (Beyond an edge they hold only void.)
     auto holdsMaterial = [&](const Point3f& p) {
         int solid = solidLabelAt(p);
         return solid == int(l) || solid == MajorantGrid::kOnlyVoid;  // void: the skin above the first voxels
@@ -330,13 +382,38 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
         for (const Vec3f& along : alongPlane)
             if (!holdsMaterial(below + along * (f * reach_mm))) return false;
     }
+    int edgeStep = -1;
+    float edge_mm = 0.0f;
+    if (!findEdge(control, options_.controlEdgeReach * diffusion_mm, edgeStep, edge_mm)) return false;
+    // Distance from p to the real side face (mm; huge without one).
+    const Vec3f toEdge = control.hasSide ? control.sideNormal : Vec3f{0, 0, 0};
+    auto insideSide = [&](const Point3f& p) {
+        return control.hasSide ? edge_mm - dot(p - control.origin, toEdge) : 1e30f;
+    };
     const Geometry& geometry = *scene_.geometry;
-    for (const Vec3f& along : alongPlane)
-        if (!geometry.closestPoint(inside.o + along * reach_mm, 0.25f * mfp_mm)) return false;
-    auto nearest = geometry.closestPoint(control.origin + inside.d * reach_mm, reach_mm);
-    if (nearest && nearest->distance_mm < 0.9f * reach_mm) return false;
+    const float flat_mm = 0.25f * mfp_mm;
+    for (const Vec3f& along : alongPlane) {
+        const Point3f p = inside.o + along * reach_mm;
+        if (insideSide(p) < flat_mm) continue;  // past the edge: the side face is checked below
+        if (!geometry.closestPoint(p, flat_mm)) return false;
+    }
+    if (control.hasSide) {
+        // The side face is flat too: on it, down from the edge and along it.
+        const Point3f edge = control.origin + toEdge * edge_mm;
+        const Vec3f alongEdge = cross(control.normal, toEdge);
+        for (const Point3f& p : {edge - control.normal * reach_mm, edge - control.normal * (0.5f * reach_mm) +
+                                                                        alongEdge * reach_mm,
+                                 edge - control.normal * (0.5f * reach_mm) - alongEdge * reach_mm})
+            if (!geometry.closestPoint(p, flat_mm)) return false;
+    }
+    // The object holds a ball that deep below the entry (or as deep as the
+    // side face allows).
+    const Point3f deep = control.origin + inside.d * reach_mm;
+    const float room_mm = std::min(reach_mm, insideSide(deep));
+    auto nearest = geometry.closestPoint(deep, reach_mm);
+    if (nearest && nearest->distance_mm < 0.9f * room_mm) return false;
 
-    mean = controlMean(path.channel, l) * path.Le;
+    mean = controlMean(path.channel, l, edgeStep) * path.Le;
     return true;
 }
 

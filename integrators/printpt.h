@@ -34,6 +34,9 @@
 //    (integrators/half_space_walk.h). Only for entry materials that scatter
 //    (albedo in [kAbsorbingAlbedo, 0.999]) and where probes find the resin
 //    one material and the surface flat over the walk's reach (controlFor);
+//    within `controlEdgeReach` of a right-angled edge the control is the
+//    wedge under both faces, with the mean tabulated over the distance to
+//    the edge;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
@@ -48,6 +51,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 
 #include "integrators/half_space_walk.h"
 #include "integrators/integrator.h"
@@ -74,6 +78,8 @@ struct PrintPtOptions {
     bool controlVariate = true;  // measured: docs/performance.md
     int64_t controlWalks = int64_t(1) << 17;
     float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
+    // How far (diffusion lengths) an edge is looked for; 0: half-space controls only.
+    float controlEdgeReach = 1.5f;
 };
 
 class PrintPt : public Integrator {
@@ -116,6 +122,12 @@ private:
     // mean; false where the entry material has none.
     bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                     HalfSpace& control, float& mean) const;
+    // The side face of an edge within reach_mm of the control's entry, set
+    // as its second plane at the tabulated distance (edgeStep) nearest the
+    // edge's (edge_mm). True also when there is no edge (hasSide false);
+    // false when the control cannot follow: several faces, or one not at
+    // right angles.
+    bool findEdge(HalfSpace& control, float reach_mm, int& edgeStep, float& edge_mm) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
@@ -142,12 +154,16 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
-    // Per channel and label: the control's mean (estimated at first use)
-    // and its standard error.
+    // Per channel, label and shape (0: half-space, 1 + step: the wedge with
+    // its edge at edgeDistance_mfp(step)): the control's mean, estimated at
+    // first use, and its standard error.
     static constexpr float kControlUnknown = -1.0f;
-    float controlMean(int channel, Label label) const;
-    mutable std::array<std::array<std::atomic<float>, 256>, 3> controlMean_;
-    mutable std::array<std::array<std::atomic<float>, 256>, 3> controlStdErr_;
+    static constexpr int kControlShapes = 1 + kEdgeSteps;
+    static size_t controlIndex(int channel, Label label, int shape) {
+        return (size_t(channel) * 256 + label) * kControlShapes + size_t(shape);
+    }
+    float controlMean(int channel, Label label, int edgeStep) const;
+    std::unique_ptr<std::atomic<float>[]> controlMean_, controlStdErr_;
 };
 
 }  // namespace pl

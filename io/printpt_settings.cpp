@@ -20,6 +20,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_variate", K::Boolean},
         {"control_walks", K::Integer},
         {"control_probe", K::Number},
+        {"control_edge_reach", K::Number},
     };
     return keys;
 }
@@ -50,6 +51,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     } else if (key == "control_probe") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
         o.controlProbe = float(value);
+    } else if (key == "control_edge_reach") {
+        if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
+        o.controlEdgeReach = float(value);
     } else if (key == "control_walks") {
         if (!(value >= 1024 && value <= 1e9) || value != double(int64_t(value)))
             return "must be a whole number of walks in 1024..1e9";
