@@ -30,8 +30,8 @@ struct HalfSpace {
     // The side face of an edge, if any: the region is then the wedge below
     // both planes (sideNormal outward, at right angles to normal).
     bool hasSide = false;
-    Point3f sideOrigin;
-    Vec3f sideNormal;
+    Point3f sideOrigin{0, 0, 0};
+    Vec3f sideNormal{0, 0, 0};
 
     // Distance from x inside to the region's boundary (mm).
     float depth(const Point3f& x) const {

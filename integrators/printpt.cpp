@@ -302,36 +302,41 @@ float PrintPt::controlMean(int channel, Label label, int edgeStep) const {
     return float(m.mean);
 }
 
-bool PrintPt::findEdge(HalfSpace& control, float reach_mm, int& edgeStep, float& edge_mm) const {
-    control.hasSide = false;
-    edgeStep = -1;
-    if (reach_mm <= 0.0f) return true;
-    // Rays along the plane, half a mean free path down, in eight directions;
-    // every face they leave through must be the same one.
+bool PrintPt::findEdge(HalfSpace& control, float reach_mm, float ignore_mm, int& edgeStep, float& edge_mm) const {
+    // Rays along the plane, half a mean free path down, in eight directions.
+    // The nearest face they leave through is the side face if it is at right
+    // angles to the plane and no other lies within ignore_mm (as far as the
+    // half-space's probes look); otherwise the half-space's probes decide.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const Frame plane(control.normal);
     const Point3f from = control.origin - control.normal * (0.5f * mfp_mm);
-    std::optional<SurfaceHit> side;
-    for (int i = 0; i < 8; ++i) {
+    SurfaceHit hits[8];
+    int count = 0, nearest = -1;
+    auto distance = [&](const SurfaceHit& h) { return dot(h.p - control.origin, h.ng); };
+    for (int i = 0; i < 8 && reach_mm > 0.0f; ++i) {
         const float angle = float(i) * (kPi / 4.0f);
         const Vec3f along = plane.s * std::cos(angle) + plane.t * std::sin(angle);
         auto hit = scene_.geometry->intersect({from, along}, 1.5f * reach_mm);
         if (!hit) continue;
-        if (dot(along, hit->ng) <= 0.0f) return false;  // an inner face: the object is not convex here
-        if (!side) {
-            side = hit;
-        } else if (std::abs(dot(hit->p - side->p, side->ng)) > 0.25f * mfp_mm || dot(hit->ng, side->ng) < 0.999f) {
-            return false;  // two faces: a corner, or a thin part
-        }
+        if (dot(along, hit->ng) <= 0.0f) return false;  // an inner face: not convex here
+        hits[count] = *hit;
+        if (nearest < 0 || distance(*hit) < distance(hits[nearest])) nearest = count;
+        ++count;
     }
-    if (!side) return true;
+    if (nearest < 0) return false;
+    const SurfaceHit& side = hits[nearest];
+    for (int i = 0; i < count; ++i) {
+        const bool sameFace = std::abs(dot(hits[i].p - side.p, side.ng)) <= 0.25f * mfp_mm &&
+                              dot(hits[i].ng, side.ng) >= 0.999f;
+        if (!sameFace && distance(hits[i]) <= ignore_mm) return false;  // a corner
+    }
     // Right angles only: the table is over the edge's distance alone.
-    if (std::abs(dot(side->ng, control.normal)) > 0.02f) return false;
-    const Vec3f toEdge = normalize(side->ng - control.normal * dot(side->ng, control.normal));
-    edge_mm = dot(side->p - control.origin, side->ng) / dot(toEdge, side->ng);
-    if (edge_mm > reach_mm) return true;  // beyond the walk's reach: the half-space's own probes decide
+    if (std::abs(dot(side.ng, control.normal)) > 0.02f) return false;
+    const Vec3f toEdge = normalize(side.ng - control.normal * dot(side.ng, control.normal));
+    edge_mm = distance(side) / dot(toEdge, side.ng);
+    if (edge_mm > reach_mm) return false;
     edgeStep = nearestEdgeStep(edge_mm / mfp_mm);
-    if (edgeStep < 0) return true;
+    if (edgeStep < 0) return false;
     control.hasSide = true;
     control.sideNormal = toEdge;
     control.sideOrigin = control.origin + toEdge * (edgeDistance_mfp(edgeStep) * mfp_mm);
@@ -384,7 +389,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     }
     int edgeStep = -1;
     float edge_mm = 0.0f;
-    if (!findEdge(control, options_.controlEdgeReach * diffusion_mm, edgeStep, edge_mm)) return false;
+    findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm, edgeStep, edge_mm);
     // Distance from p to the real side face (mm; huge without one).
     const Vec3f toEdge = control.hasSide ? control.sideNormal : Vec3f{0, 0, 0};
     auto insideSide = [&](const Point3f& p) {

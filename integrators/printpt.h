@@ -122,12 +122,11 @@ private:
     // mean; false where the entry material has none.
     bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                     HalfSpace& control, float& mean) const;
-    // The side face of an edge within reach_mm of the control's entry, set
-    // as its second plane at the tabulated distance (edgeStep) nearest the
-    // edge's (edge_mm). True also when there is no edge (hasSide false);
-    // false when the control cannot follow: several faces, or one not at
-    // right angles.
-    bool findEdge(HalfSpace& control, float reach_mm, int& edgeStep, float& edge_mm) const;
+    // The side face of a right-angled edge within reach_mm of the control's
+    // entry, set as its second plane at the tabulated distance (edgeStep)
+    // nearest the edge's (edge_mm); false (and the control left a
+    // half-space) where there is none, or another face within ignore_mm.
+    bool findEdge(HalfSpace& control, float reach_mm, float ignore_mm, int& edgeStep, float& edge_mm) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
