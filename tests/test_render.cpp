@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "core/fresnel.h"
 #include "integrators/half_space_walk.h"
 #include "integrators/render.h"
 #include "render_estimate.h"
@@ -239,6 +240,56 @@ TEST(HalfSpaceWalk, MeanDoesNotDependOnSigmaT) {
     HalfSpace darker = unit;
     darker.albedo = 0.9f;
     EXPECT_GT(a.mean - estimateHalfSpaceMean(darker, roulette, 1.0f, 100000, 7).mean, 8.0 * combined);
+}
+
+// Near an edge printpt's control is a wedge: the half-space cut by a side
+// plane at right angles. A flight that reaches the side plane first leaves
+// through it (1 - F) and is reflected there.
+TEST(HalfSpaceWalk, WedgeFlightsLeaveThroughTheSideFace) {
+    HalfSpace wedge{{0, 0, 0}, {0, 0, 1}, 1.0f, 0.9f, 0.0f, 1.0f / 1.5f};
+    wedge.hasSide = true;
+    wedge.sideOrigin = {1, 0, 0};
+    wedge.sideNormal = {1, 0, 0};
+    HalfSpaceWalker w{{0.5f, 0, -2}, {1, 0, 0}, 1.0f};
+    EXPECT_FLOAT_EQ(wedge.depth(w.x), 0.5f);
+    float light = 0.0f;
+    EXPECT_FALSE(halfSpaceFlight(wedge, w, 10.0f, light));
+    const float F = fresnelDielectric(1.0f, 1.0f / 1.5f);
+    EXPECT_FLOAT_EQ(light, 1.0f - F);
+    EXPECT_FLOAT_EQ(w.weight, F);
+    EXPECT_NEAR(w.x.x, 1.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(w.d.x, -1.0f);
+    // Short of the plane it collides.
+    HalfSpaceWalker v{{0.5f, 0, -2}, {1, 0, 0}, 1.0f};
+    EXPECT_TRUE(halfSpaceFlight(wedge, v, 0.25f, light));
+    EXPECT_FLOAT_EQ(v.x.x, 0.75f);
+    EXPECT_FLOAT_EQ(v.weight, 0.9f);
+}
+
+// The wedge's mean is tabulated in mean free paths at sigma_t = 1 (the
+// edge's distance scales with the walk); far from the edge it is the
+// half-space's, close to it more light gets out.
+TEST(HalfSpaceWalk, WedgeMeanScalesAndMeetsTheHalfSpaceFarFromTheEdge) {
+    const RouletteRule roulette{0.25f, 1.0f};
+    auto wedgeAt = [](float sigmaT, float edge_mfp) {
+        HalfSpace w{{0, 0, 0}, {0, 0, 1}, sigmaT, 0.95f, 0.4f, 1.0f / 1.5f};
+        w.hasSide = true;
+        w.sideNormal = {1, 0, 0};
+        w.sideOrigin = {edge_mfp / sigmaT, 0, 0};
+        return w;
+    };
+    HalfSpaceMean unit = estimateHalfSpaceMean(wedgeAt(1.0f, 2.0f), roulette, 1.0f, 100000, 5);
+    HalfSpaceMean dense = estimateHalfSpaceMean(wedgeAt(24.0f, 2.0f), roulette, 1.0f, 100000, 6);
+    double combined = std::hypot(unit.standardError, dense.standardError);
+    EXPECT_NEAR(unit.mean, dense.mean, 4.0 * combined) << "stderr " << combined;
+
+    HalfSpace half = wedgeAt(1.0f, 0.0f);
+    half.hasSide = false;
+    HalfSpaceMean plane = estimateHalfSpaceMean(half, roulette, 1.0f, 100000, 7);
+    HalfSpaceMean far = estimateHalfSpaceMean(wedgeAt(1.0f, 60.0f), roulette, 1.0f, 100000, 8);
+    combined = std::hypot(plane.standardError, far.standardError);
+    EXPECT_NEAR(far.mean, plane.mean, 4.0 * combined) << "stderr " << combined;
+    EXPECT_GT(unit.mean - plane.mean, 8.0 * std::hypot(unit.standardError, plane.standardError));
 }
 
 }  // namespace
