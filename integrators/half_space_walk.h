@@ -41,10 +41,10 @@ struct HalfSpace {
 };
 
 // The distances from the entry to the edge (mean free paths) at which wedge
-// controls are tabulated: every quarter up to 4, then 6.25 % apart. The
+// controls are tabulated: every quarter up to 4, then 6.25 % apart (to 61). The
 // control's side plane is put at the tabulated distance nearest the real
 // edge's (its mean is known there); the walks part where the two differ.
-constexpr int kEdgeSteps = 49;
+constexpr int kEdgeSteps = 61;
 inline float edgeDistance_mfp(int step) {
     return step <= 16 ? 0.25f * float(step) : 4.0f * std::pow(1.0625f, float(step - 16));
 }
