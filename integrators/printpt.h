@@ -79,7 +79,7 @@ struct PrintPtOptions {
     int64_t controlWalks = int64_t(1) << 17;
     float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
     // How far (diffusion lengths) an edge is looked for; 0: half-space controls only.
-    float controlEdgeReach = 1.5f;
+    float controlEdgeReach = 6.0f;
 };
 
 class PrintPt : public Integrator {
