@@ -387,6 +387,14 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
         for (const Vec3f& along : alongPlane)
             if (!holdsMaterial(below + along * (f * reach_mm))) return false;
     }
+    // The surface along the plane, four ways: where it leaves the plane both
+    // ways along a line the surface is curved or the part thin, and no edge
+    // explains that (this also spares curved objects the edge search's rays).
+    const Geometry& geometry = *scene_.geometry;
+    const float flat_mm = 0.25f * mfp_mm;
+    bool leaves[4];
+    for (int i = 0; i < 4; ++i) leaves[i] = !geometry.closestPoint(inside.o + alongPlane[i] * reach_mm, flat_mm);
+    if ((leaves[0] && leaves[1]) || (leaves[2] && leaves[3])) return false;
     int edgeStep = -1;
     float edge_mm = 0.0f;
     findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm, edgeStep, edge_mm);
@@ -395,13 +403,10 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     auto insideSide = [&](const Point3f& p) {
         return control.hasSide ? edge_mm - dot(p - control.origin, toEdge) : 1e30f;
     };
-    const Geometry& geometry = *scene_.geometry;
-    const float flat_mm = 0.25f * mfp_mm;
-    for (const Vec3f& along : alongPlane) {
-        const Point3f p = inside.o + along * reach_mm;
-        if (insideSide(p) < flat_mm) continue;  // past the edge: the side face is checked below
-        if (!geometry.closestPoint(p, flat_mm)) return false;
-    }
+    // Only past the edge may the surface leave the plane (the side face is
+    // checked below).
+    for (int i = 0; i < 4; ++i)
+        if (leaves[i] && insideSide(inside.o + alongPlane[i] * reach_mm) >= flat_mm) return false;
     if (control.hasSide) {
         // The side face is flat too: on it, down from the edge and along it.
         const Point3f edge = control.origin + toEdge * edge_mm;
