@@ -302,45 +302,46 @@ float PrintPt::controlMean(int channel, Label label, int edgeStep) const {
     return float(m.mean);
 }
 
-bool PrintPt::findEdge(HalfSpace& control, float reach_mm, float ignore_mm, int& edgeStep, float& edge_mm) const {
+std::optional<PrintPt::Edge> PrintPt::findEdge(HalfSpace& control, float reach_mm, float ignore_mm) const {
     // Rays along the plane, half a mean free path down, in eight directions.
     // The nearest face they leave through is the side face if it is at right
     // angles to the plane and no other lies within ignore_mm (as far as the
     // half-space's probes look); otherwise the half-space's probes decide.
+    if (reach_mm <= 0.0f) return std::nullopt;
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const Frame plane(control.normal);
     const Point3f from = control.origin - control.normal * (0.5f * mfp_mm);
     SurfaceHit hits[8];
     int count = 0, nearest = -1;
     auto distance = [&](const SurfaceHit& h) { return dot(h.p - control.origin, h.ng); };
-    for (int i = 0; i < 8 && reach_mm > 0.0f; ++i) {
+    for (int i = 0; i < 8; ++i) {
         const float angle = float(i) * (kPi / 4.0f);
         const Vec3f along = plane.s * std::cos(angle) + plane.t * std::sin(angle);
         auto hit = scene_.geometry->intersect({from, along}, 1.5f * reach_mm);
         if (!hit) continue;
-        if (dot(along, hit->ng) <= 0.0f) return false;  // an inner face: not convex here
+        if (dot(along, hit->ng) <= 0.0f) return std::nullopt;  // an inner face: not convex here
         hits[count] = *hit;
         if (nearest < 0 || distance(*hit) < distance(hits[nearest])) nearest = count;
         ++count;
     }
-    if (nearest < 0) return false;
+    if (nearest < 0) return std::nullopt;
     const SurfaceHit& side = hits[nearest];
     for (int i = 0; i < count; ++i) {
         const bool sameFace = std::abs(dot(hits[i].p - side.p, side.ng)) <= 0.25f * mfp_mm &&
                               dot(hits[i].ng, side.ng) >= 0.999f;
-        if (!sameFace && distance(hits[i]) <= ignore_mm) return false;  // a corner
+        if (!sameFace && distance(hits[i]) <= ignore_mm) return std::nullopt;  // a corner
     }
     // Right angles only: the table is over the edge's distance alone.
-    if (std::abs(dot(side.ng, control.normal)) > 0.02f) return false;
+    if (std::abs(dot(side.ng, control.normal)) > 0.02f) return std::nullopt;
     const Vec3f toEdge = normalize(side.ng - control.normal * dot(side.ng, control.normal));
-    edge_mm = distance(side) / dot(toEdge, side.ng);
-    if (edge_mm > reach_mm) return false;
-    edgeStep = nearestEdgeStep(edge_mm / mfp_mm);
-    if (edgeStep < 0) return false;
+    const float edge_mm = distance(side) / dot(toEdge, side.ng);
+    if (edge_mm > reach_mm) return std::nullopt;
+    const int step = nearestEdgeStep(edge_mm / mfp_mm);
+    if (step < 0) return std::nullopt;
     control.hasSide = true;
     control.sideNormal = toEdge;
-    control.sideOrigin = control.origin + toEdge * (edgeDistance_mfp(edgeStep) * mfp_mm);
-    return true;
+    control.sideOrigin = control.origin + toEdge * (edgeDistance_mfp(step) * mfp_mm);
+    return Edge{step, edge_mm};
 }
 
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
@@ -395,25 +396,22 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     bool leaves[4];
     for (int i = 0; i < 4; ++i) leaves[i] = !geometry.closestPoint(inside.o + alongPlane[i] * reach_mm, flat_mm);
     if ((leaves[0] && leaves[1]) || (leaves[2] && leaves[3])) return false;
-    int edgeStep = -1;
-    float edge_mm = 0.0f;
-    findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm, edgeStep, edge_mm);
+    const std::optional<Edge> edge = findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm);
     // Distance from p to the real side face (mm; huge without one).
-    const Vec3f toEdge = control.hasSide ? control.sideNormal : Vec3f{0, 0, 0};
     auto insideSide = [&](const Point3f& p) {
-        return control.hasSide ? edge_mm - dot(p - control.origin, toEdge) : 1e30f;
+        return edge ? edge->distance_mm - dot(p - control.origin, control.sideNormal) : 1e30f;
     };
     // Only past the edge may the surface leave the plane (the side face is
     // checked below).
     for (int i = 0; i < 4; ++i)
         if (leaves[i] && insideSide(inside.o + alongPlane[i] * reach_mm) >= flat_mm) return false;
-    if (control.hasSide) {
+    if (edge) {
         // The side face is flat too: on it, down from the edge and along it.
-        const Point3f edge = control.origin + toEdge * edge_mm;
-        const Vec3f alongEdge = cross(control.normal, toEdge);
-        for (const Point3f& p : {edge - control.normal * reach_mm, edge - control.normal * (0.5f * reach_mm) +
-                                                                        alongEdge * reach_mm,
-                                 edge - control.normal * (0.5f * reach_mm) - alongEdge * reach_mm})
+        const Point3f onEdge = control.origin + control.sideNormal * edge->distance_mm;
+        const Vec3f alongEdge = cross(control.normal, control.sideNormal);
+        const Point3f halfDown = onEdge - control.normal * (0.5f * reach_mm);
+        for (const Point3f& p :
+             {onEdge - control.normal * reach_mm, halfDown + alongEdge * reach_mm, halfDown - alongEdge * reach_mm})
             if (!geometry.closestPoint(p, flat_mm)) return false;
     }
     // The object holds a ball that deep below the entry (or as deep as the
@@ -423,7 +421,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     auto nearest = geometry.closestPoint(deep, reach_mm);
     if (nearest && nearest->distance_mm < 0.9f * room_mm) return false;
 
-    mean = controlMean(path.channel, l, edgeStep) * path.Le;
+    mean = controlMean(path.channel, l, edge ? edge->step : -1) * path.Le;
     return true;
 }
 

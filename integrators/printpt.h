@@ -52,6 +52,7 @@
 
 #include <atomic>
 #include <memory>
+#include <optional>
 
 #include "integrators/half_space_walk.h"
 #include "integrators/integrator.h"
@@ -123,10 +124,14 @@ private:
     bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                     HalfSpace& control, float& mean) const;
     // The side face of a right-angled edge within reach_mm of the control's
-    // entry, set as its second plane at the tabulated distance (edgeStep)
-    // nearest the edge's (edge_mm); false (and the control left a
-    // half-space) where there is none, or another face within ignore_mm.
-    bool findEdge(HalfSpace& control, float reach_mm, float ignore_mm, int& edgeStep, float& edge_mm) const;
+    // entry, set as its second plane at the tabulated distance nearest the
+    // edge's; none (and the control left a half-space) where there is no
+    // such face, or another face lies within ignore_mm.
+    struct Edge {
+        int step;           // the tabulated distance the side plane is at
+        float distance_mm;  // the real edge's distance from the entry
+    };
+    std::optional<Edge> findEdge(HalfSpace& control, float reach_mm, float ignore_mm) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
