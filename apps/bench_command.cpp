@@ -12,8 +12,11 @@
 // themselves (stderr^2, at least kMinSelfSpp samples; with hero channels,
 // which go round groups of three samples, at least two groups). Cheap for large scenes;
 // it cannot see bias (the tests and the reference mode do) and it
-// underestimates heavy-tailed estimators at few samples.
+// underestimates heavy-tailed estimators at few samples. Its relative MSE
+// divides each pixel's variance by one squared mean for all renders of the
+// run (their means pooled, weighted by 1 / MSE), not by each render's own.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -125,16 +128,21 @@ struct Errors {
 constexpr uint32_t kMinSelfSpp = 4;
 
 // The film's own variance estimate as the expected squared error, plus the
-// variance every pixel shares (printpt's control means).
-Errors selfVariance(const Film& film, const RGB& shared) {
+// variance every pixel shares (printpt's control means). The relative MSE
+// divides by relativeTo(p, c), a squared mean: with the film's own means, whose noise
+// differs from one configuration to the next, dark pixels weigh in by how
+// noisy each render's estimate of their darkness is, and a noisier
+// configuration can come out ahead.
+template <class RelativeTo>
+Errors selfVariance(const Film& film, const RGB& shared, RelativeTo&& relativeTo) {
     double se[3] = {0, 0, 0}, rel = 0;
     size_t n = film.pixelCount();
     for (size_t p = 0; p < n; ++p)
         for (int c = 0; c < 3; ++c) {
-            double m = film.mean(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c) +
-                                            double(shared[c]) * shared[c];
+            double mSq = relativeTo(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c) +
+                                               double(shared[c]) * shared[c];
             se[c] += v;
-            rel += v / (m * m + 1e-3);
+            rel += v / (mSq + 1e-3);
         }
     Errors e;
     for (int c = 0; c < 3; ++c) e.rmse[c] = float(std::sqrt(se[c] / double(n)));
@@ -289,6 +297,9 @@ int benchCommand(const std::vector<std::string>& argv) {
     // the sample variance is unbiased from two samples on).
     const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
     std::vector<Row> rows;
+    // Self-variance: each render's film, kept until all are done for the
+    // relative MSE (one denominator for all renders).
+    std::vector<std::pair<Film, RGB>> selfFilms;
     for (const std::string& name : names) {
         RenderSettings s = chosen[name];
         s.spp = 1;
@@ -306,12 +317,35 @@ int benchCommand(const std::vector<std::string>& argv) {
                 s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
-            Errors e = self ? selfVariance(r.film, r.sharedStandardError) : compare(r.film, *sensor, ref);
+            Errors e = self ? selfVariance(r.film, r.sharedStandardError, [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); })
+                            : compare(r.film, *sensor, ref);
+            if (self) selfFilms.emplace_back(std::move(r.film), r.sharedStandardError);
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
+    }
+
+    if (selfFilms.size() >= 2) {
+        // One denominator for every render: the renders' means pooled with
+        // weights 1 / (render's MSE), so the comparison between
+        // configurations is like for like and the least noisy render counts most.
+        const size_t n = selfFilms.front().first.pixelCount();
+        std::vector<std::array<double, 3>> pooled(n, {0, 0, 0});
+        double weights = 0;
+        for (size_t i = 0; i < selfFilms.size(); ++i) {
+            const double w = 1.0 / std::max(rows[i].rmse * rows[i].rmse, 1e-30);
+            weights += w;
+            for (size_t p = 0; p < n; ++p)
+                for (int c = 0; c < 3; ++c) pooled[p][c] += w * selfFilms[i].first.mean(p, c);
+        }
+        auto meanSq = [&](size_t p, int c) {
+            const double m = pooled[p][c] / weights;
+            return m * m;
+        };
+        for (size_t i = 0; i < selfFilms.size(); ++i)
+            rows[i].relMse = selfVariance(selfFilms[i].first, selfFilms[i].second, meanSq).relMse;
     }
 
     // Equal-error speed-up over the baseline (volpath, or else the first
@@ -324,7 +358,8 @@ int benchCommand(const std::vector<std::string>& argv) {
     std::ostringstream md, csv;
     if (self)
         md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
-           << "variance estimate (stderr^2 per pixel, at least " << kMinSelfSpp << " spp).\n\n";
+           << "variance estimate (stderr^2 per pixel, at least " << kMinSelfSpp << " spp); relMSE divides it by one squared "
+           << "mean for all renders, their means pooled with weights 1/MSE (with one render: its own).\n\n";
     else
         md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
            << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";

@@ -339,6 +339,43 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_EQ(r.exitCode, 2);
 }
 
+// Self-variance relative MSE: printpt's k = 4 walks from a surface voxel's
+// fixed entry are independent, so at equal spp k = 1 has 4x the variance per
+// pixel. Relative to each render's own means (and relative to the other
+// render's) the two came out equal on this black-and-white mix (ratio 0.99).
+// With one pooled denominator k = 1 is clearly worse (2.6; below 4 because
+// the pooled mean is mostly k = 4's, whose noise goes with its variance).
+TEST(Cli, BenchSelfVarianceRelativeErrorFollowsTheVariance) {
+    TestScene s("bench_rel");
+    writeLabelGridBin(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f},
+                                    [](const Vec3i& v) { return Label((v.x / 2 + v.y / 2 + v.z / 2) % 2 ? 3 : 4); }),
+                      s.dir / "grid.bin");
+    fs::path scene = s.write();
+    CliRun r = printlight("bench " + scene.string() + " --self-variance --spp 4 --configs printpt,printpt/k=1 --out " +
+                              (s.dir / "b").string(),
+                          s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    // config,budget,seconds,spp,rmse_r,rmse_g,rmse_b,rmse,relmse,...
+    std::istringstream csv(readText(s.dir / "b.csv"));
+    std::string line;
+    std::getline(csv, line);
+    double rmse[2], relMse[2];
+    for (int i = 0; i < 2; ++i) {
+        ASSERT_TRUE(std::getline(csv, line));
+        std::vector<std::string> f;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
+        ASSERT_GE(f.size(), 9u) << line;
+        rmse[i] = std::stod(f[7]);
+        relMse[i] = std::stod(f[8]);
+    }
+    const double mseRatio = (rmse[1] * rmse[1]) / (rmse[0] * rmse[0]), relRatio = relMse[1] / relMse[0];
+    EXPECT_GT(mseRatio, 2.5);
+    EXPECT_LT(mseRatio, 6.0);
+    EXPECT_GT(relRatio, 2.0) << "MSE ratio " << mseRatio;
+    EXPECT_LT(relRatio, 6.0) << "MSE ratio " << mseRatio;
+}
+
 // The shipped regression manifest: a rerun (other thread count) is bit for
 // bit the stored result, another seed passes the statistical comparison, and
 // a changed scene (3 % brighter surroundings) is reported as a regression.
