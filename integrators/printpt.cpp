@@ -449,7 +449,11 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
         return std::min(options_.rrCap, std::max(path.beta, c.weight) / rouletteThreshold(path, label));
     };
     auto finishControl = [&](bool atCollision) {
-        Lc += finishHalfSpaceWalk(control, c, atCollision, controlRoulette, controlBallMfp, rng, controlEvents);
+        const int n = options_.controlContinuations;
+        float remainder = 0.0f;
+        for (int i = 0; i < n; ++i)
+            remainder += finishHalfSpaceWalk(control, c, atCollision, controlRoulette, controlBallMfp, rng, controlEvents);
+        Lc += remainder / float(n);
         return L - Lc * path.Le;
     };
     stats.paths += 1;

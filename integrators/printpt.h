@@ -81,6 +81,10 @@ struct PrintPtOptions {
     float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
     // How far (diffusion lengths) an edge is looked for; 0: half-space controls only.
     float controlEdgeReach = 6.0f;
+    // Where the two walks part, the control's remainder is the mean of this
+    // many independent continuations from its state (an unbiased estimate
+    // of the remainder's expectation: less of its variance, more walks).
+    int controlContinuations = 1;
 };
 
 class PrintPt : public Integrator {

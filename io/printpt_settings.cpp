@@ -21,6 +21,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_walks", K::Integer},
         {"control_probe", K::Number},
         {"control_edge_reach", K::Number},
+        {"control_continuations", K::Integer},
     };
     return keys;
 }
@@ -51,6 +52,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     } else if (key == "control_probe") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
         o.controlProbe = float(value);
+    } else if (key == "control_continuations") {
+        if (!(value >= 1 && value <= 1024) || value != double(int(value))) return "must be a whole number in 1..1024";
+        o.controlContinuations = int(value);
     } else if (key == "control_edge_reach") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
         o.controlEdgeReach = float(value);
