@@ -344,11 +344,13 @@ std::optional<PrintPt::Edge> PrintPt::findEdge(HalfSpace& control, float reach_m
     return Edge{step, edge_mm};
 }
 
+int PrintPt::solidLabelAt(const Point3f& p) const {
+    return scene_.medium->majorants().solidLabelAt(scene_.medium->voxelAt(p));
+}
+
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                          HalfSpace& control, float& mean) const {
     // Cheapest first: under a halftone the entry's brick holds several resins.
-    const MajorantGrid& bricks = scene_.medium->majorants();
-    auto solidLabelAt = [&](const Point3f& p) { return bricks.solidLabelAt(scene_.medium->voxelAt(p)); };
     if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return false;
     // The plane goes through the first point along the ray where the
     // medium can scatter: the mesh and the voxels' edges do not line up, and
@@ -373,7 +375,28 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // the object holds a ball that deep below the entry. Cheapest first.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
-    const float reach_mm = options_.controlProbe * diffusion_mm;
+    std::optional<Edge> edge;
+    bool fits = controlFits(inside, l, options_.controlProbe * diffusion_mm, diffusion_mm, control, edge);
+    // Curved surfaces fail the probe above; over a shorter reach the
+    // control still follows the walk for a while, if the body is thick
+    // enough below the entry that the walks do not part at once.
+    if (!fits && options_.controlProbeShort > 0.0f) {
+        const Point3f deep = control.origin + inside.d * diffusion_mm;
+        auto nearest = scene_.geometry->closestPoint(deep, diffusion_mm);
+        const bool thick = !nearest || nearest->distance_mm >= 0.9f * diffusion_mm;
+        if (thick) {
+            control.hasSide = false;
+            fits = controlFits(inside, l, options_.controlProbeShort * diffusion_mm, diffusion_mm, control, edge);
+        }
+    }
+    if (!fits) return false;
+    mean = controlMean(path.channel, l, edge ? edge->step : -1) * path.Le;
+    return true;
+}
+
+bool PrintPt::controlFits(const Ray& inside, Label l, float reach_mm, float diffusion_mm, HalfSpace& control,
+                          std::optional<Edge>& edge) const {
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const Frame plane(control.normal);
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
     // Whole bricks, not single voxels: a halftone's sparse dots are seen.
@@ -396,7 +419,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     bool leaves[4];
     for (int i = 0; i < 4; ++i) leaves[i] = !geometry.closestPoint(inside.o + alongPlane[i] * reach_mm, flat_mm);
     if ((leaves[0] && leaves[1]) || (leaves[2] && leaves[3])) return false;
-    const std::optional<Edge> edge = findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm);
+    edge = findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm);
     // Distance from p to the real side face (mm; huge without one).
     auto insideSide = [&](const Point3f& p) {
         return edge ? edge->distance_mm - dot(p - control.origin, control.sideNormal) : 1e30f;
@@ -421,7 +444,6 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     auto nearest = geometry.closestPoint(deep, reach_mm);
     if (nearest && nearest->distance_mm < 0.9f * room_mm) return false;
 
-    mean = controlMean(path.channel, l, edge ? edge->step : -1) * path.Le;
     return true;
 }
 

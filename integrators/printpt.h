@@ -79,6 +79,9 @@ struct PrintPtOptions {
     bool controlVariate = true;  // measured: docs/performance.md
     int64_t controlWalks = int64_t(1) << 17;
     float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
+    // Where that fails: a second try over this reach, if the body is a
+    // diffusion length thick below the entry (curved surfaces); 0: none.
+    float controlProbeShort = 0.0f;
     // How far (diffusion lengths) an edge is looked for; 0: half-space controls only.
     float controlEdgeReach = 6.0f;
     // Where the two walks part, the control's remainder is the mean of this
@@ -136,6 +139,13 @@ private:
         float distance_mm;  // the real edge's distance from the entry
     };
     std::optional<Edge> findEdge(HalfSpace& control, float reach_mm, float ignore_mm) const;
+    // Whether the control of material l under the entry plane may run:
+    // the probes over reach_mm (controlFor). Sets the control's side plane
+    // and the edge where it is a wedge.
+    bool controlFits(const Ray& inside, Label l, float reach_mm, float diffusion_mm, HalfSpace& control,
+                     std::optional<Edge>& edge) const;
+    // The one label of p's majorant brick, or MajorantGrid::kSeveralLabels / kOnlyVoid.
+    int solidLabelAt(const Point3f& p) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;

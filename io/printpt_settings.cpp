@@ -20,6 +20,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_variate", K::Boolean},
         {"control_walks", K::Integer},
         {"control_probe", K::Number},
+        {"control_probe_short", K::Number},
         {"control_edge_reach", K::Number},
         {"control_continuations", K::Integer},
     };
@@ -49,9 +50,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
         o.nee = on;
     } else if (key == "control_variate") {
         o.controlVariate = on;
-    } else if (key == "control_probe") {
+    } else if (key == "control_probe" || key == "control_probe_short") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
-        o.controlProbe = float(value);
+        (key == "control_probe" ? o.controlProbe : o.controlProbeShort) = float(value);
     } else if (key == "control_continuations") {
         if (!(value >= 1 && value <= 1024) || value != double(int(value))) return "must be a whole number in 1..1024";
         o.controlContinuations = int(value);

@@ -17,10 +17,9 @@ struct Estimate {
 
 // Mean over all pixels, with the standard error of that mean (including
 // the error every pixel shares).
-inline Estimate renderMean(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
-    RenderResult r = render(scene, sensor, settings);
+inline Estimate meanOf(const RenderResult& r) {
     Estimate e{};
-    size_t n = sensor.pixelCount();
+    size_t n = r.film.pixelCount();
     for (int c = 0; c < 3; ++c) {
         double sum = 0, var = 0;
         for (size_t p = 0; p < n; ++p) {
@@ -32,6 +31,9 @@ inline Estimate renderMean(const Scene& scene, const Sensor& sensor, const Rende
         e.standardError[c] = float(std::sqrt(var / (double(n) * n) + shared * shared));
     }
     return e;
+}
+inline Estimate renderMean(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
+    return meanOf(render(scene, sensor, settings));
 }
 
 // The two means differ by less than 4 combined standard errors, per channel.
