@@ -193,6 +193,7 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         RenderSettings parting = s;
         parting.printpt.controlEdgeReach = 6.0f;
         parting.printpt.controlProbe = 0.2f;
+        parting.printpt.controlContinuations = 1;
         RenderResult oneContinuation = render(scene, sensor, parting);
         parting.printpt.controlContinuations = 4;
         RenderResult fourContinuations = render(scene, sensor, parting);
