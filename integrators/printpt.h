@@ -29,7 +29,7 @@
 //    wherever the media agree). Until their events part (one collides where
 //    the other leaves, or the surface walk collides in another material),
 //    they add the same light; after that the half-space walk finishes on
-//    its own. The estimate is f - g + E[g], with E[g] estimated once per
+//    its own (as the mean of `controlContinuations` independent walks). The estimate is f - g + E[g], with E[g] estimated once per
 //    (albedo, g) with `controlWalks` cheap walks
 //    (integrators/half_space_walk.h). Only for entry materials that scatter
 //    (albedo in [kAbsorbingAlbedo, 0.999]) and where probes find the resin
