@@ -381,10 +381,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // control still follows the walk for a while, if the body is thick
     // enough below the entry that the walks do not part at once.
     if (!fits && options_.controlProbeShort > 0.0f) {
-        const Point3f deep = control.origin + inside.d * diffusion_mm;
-        auto nearest = scene_.geometry->closestPoint(deep, diffusion_mm);
-        const bool thick = !nearest || nearest->distance_mm >= 0.9f * diffusion_mm;
-        if (thick) {
+        if (holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm)) {
             control.hasSide = false;
             fits = controlFits(inside, l, options_.controlProbeShort * diffusion_mm, diffusion_mm, control, edge);
         }
@@ -440,11 +437,13 @@ bool PrintPt::controlFits(const Ray& inside, Label l, float reach_mm, float diff
     // The object holds a ball that deep below the entry (or as deep as the
     // side face allows).
     const Point3f deep = control.origin + inside.d * reach_mm;
-    const float room_mm = std::min(reach_mm, insideSide(deep));
-    auto nearest = geometry.closestPoint(deep, reach_mm);
-    if (nearest && nearest->distance_mm < 0.9f * room_mm) return false;
+    return holdsBall(deep, std::min(reach_mm, insideSide(deep)));
+}
 
-    return true;
+bool PrintPt::holdsBall(const Point3f& centre, float radius_mm) const {
+    if (radius_mm <= 0.0f) return true;
+    auto nearest = scene_.geometry->closestPoint(centre, radius_mm);
+    return !nearest || nearest->distance_mm >= 0.9f * radius_mm;
 }
 
 float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control,

@@ -29,7 +29,8 @@
 //    wherever the media agree). Until their events part (one collides where
 //    the other leaves, or the surface walk collides in another material),
 //    they add the same light; after that the half-space walk finishes on
-//    its own (as the mean of `controlContinuations` independent walks). The estimate is f - g + E[g], with E[g] estimated once per
+//    its own (as the mean of `controlContinuations` independent walks).
+//    The estimate is f - g + E[g], with E[g] estimated once per
 //    (albedo, g) with `controlWalks` cheap walks
 //    (integrators/half_space_walk.h). Only for entry materials that scatter
 //    (albedo in [kAbsorbingAlbedo, 0.999]) and where probes find the resin
@@ -145,6 +146,9 @@ private:
     // and the edge where it is a wedge.
     bool controlFits(const Ray& inside, Label l, float reach_mm, float diffusion_mm, HalfSpace& control,
                      std::optional<Edge>& edge) const;
+    // Whether the object holds the ball of radius_mm around centre (no
+    // surface within 0.9 radius_mm).
+    bool holdsBall(const Point3f& centre, float radius_mm) const;
     // The one label of p's majorant brick, or MajorantGrid::kSeveralLabels / kOnlyVoid.
     int solidLabelAt(const Point3f& p) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
