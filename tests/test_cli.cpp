@@ -339,6 +339,30 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_EQ(r.exitCode, 2);
 }
 
+// A CSV file's rows after its header, as cells, or as numbers where every cell is one.
+std::vector<std::vector<std::string>> readCsvCells(const fs::path& file) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(test::readText(file));
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+        std::vector<std::string> row;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) row.push_back(cell);
+        rows.push_back(row);
+    }
+    return rows;
+}
+std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
+    std::vector<std::vector<double>> rows;
+    for (const auto& cells : readCsvCells(file)) {
+        std::vector<double> row;
+        for (const std::string& cell : cells) row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 // Self-variance relative MSE: printpt's k = 4 walks from a surface voxel's
 // fixed entry are independent, so at equal spp k = 1 has 4x the variance per
 // pixel. Relative to each render's own means (and relative to the other
@@ -355,19 +379,14 @@ TEST(Cli, BenchSelfVarianceRelativeErrorFollowsTheVariance) {
                               (s.dir / "b").string(),
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    // config,budget,seconds,spp,rmse_r,rmse_g,rmse_b,rmse,relmse,...
-    std::istringstream csv(readText(s.dir / "b.csv"));
-    std::string line;
-    std::getline(csv, line);
+    // config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,...
+    auto rows = readCsvCells(s.dir / "b.csv");
+    ASSERT_EQ(rows.size(), 2u);
     double rmse[2], relMse[2];
     for (int i = 0; i < 2; ++i) {
-        ASSERT_TRUE(std::getline(csv, line));
-        std::vector<std::string> f;
-        std::istringstream cells(line);
-        for (std::string cell; std::getline(cells, cell, ',');) f.push_back(cell);
-        ASSERT_GE(f.size(), 9u) << line;
-        rmse[i] = std::stod(f[7]);
-        relMse[i] = std::stod(f[8]);
+        ASSERT_GE(rows[i].size(), 9u);
+        rmse[i] = std::stod(rows[i][7]);
+        relMse[i] = std::stod(rows[i][8]);
     }
     const double mseRatio = (rmse[1] * rmse[1]) / (rmse[0] * rmse[0]), relRatio = relMse[1] / relMse[0];
     EXPECT_GT(mseRatio, 2.5);
@@ -452,21 +471,6 @@ TEST(Cli, PredictRunsTheApiLikeALoop) {
     r = printlight("predict " + s.write().string(), s.dir);
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("surface_voxels"), std::string::npos) << r.err;
-}
-
-std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
-    std::vector<std::vector<double>> rows;
-    std::istringstream in(test::readText(file));
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::vector<double> row;
-        std::istringstream cells(line);
-        std::string cell;
-        while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
-        rows.push_back(row);
-    }
-    return rows;
 }
 
 TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {

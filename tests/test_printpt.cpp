@@ -177,15 +177,15 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         s.printpt.controlVariate = true;
         s.printpt.controlWalks = 1 << 16;
         const std::string what = shell ? "control variate, coloured shell" : "control variate, white";
-        expectAgreement(volpath, renderMean(scene, sensor, s), what);
+        RenderResult with = render(scene, sensor, s);
+        expectAgreement(volpath, test::meanOf(with), what);
         if (shell) continue;
         // The same samples without the control, and with half-space controls
         // only (no wedges at the edges): summed per-pixel variances.
-        RenderResult with = render(scene, sensor, s);
         EXPECT_GT(with.sharedStandardError[2], 0.0f);
         s.printpt.controlEdgeReach = 0.0f;
         RenderResult halfSpaces = render(scene, sensor, s);
-        expectAgreement(volpath, renderMean(scene, sensor, s), "control variate, half-spaces only");
+        expectAgreement(volpath, test::meanOf(halfSpaces), "control variate, half-spaces only");
         // A short probe (the walks part often) with the parted control's
         // remainder averaged over four continuations: still unbiased, and
         // the remainder's variance falls (measured red/green/blue 0.71/0.77/0.70
