@@ -129,10 +129,10 @@ constexpr uint32_t kMinSelfSpp = 4;
 
 // The film's own variance estimate as the expected squared error, plus the
 // variance every pixel shares (printpt's control means). The relative MSE
-// divides by relativeTo(p, c), a squared mean: with the film's own means, whose noise
-// differs from one configuration to the next, dark pixels weigh in by how
-// noisy each render's estimate of their darkness is, and a noisier
-// configuration can come out ahead.
+// divides by relativeTo(p, c), a squared mean: with the film's own means,
+// whose noise differs from one configuration to the next, dark pixels
+// weigh in by how noisy each render's estimate of their darkness is, and a
+// noisier configuration can come out ahead.
 template <class RelativeTo>
 Errors selfVariance(const Film& film, const RGB& shared, RelativeTo&& relativeTo) {
     double se[3] = {0, 0, 0}, rel = 0;
@@ -317,8 +317,9 @@ int benchCommand(const std::vector<std::string>& argv) {
                 s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
             s.seed += 1;
             RenderResult r = render(scene, *sensor, s);
-            Errors e = self ? selfVariance(r.film, r.sharedStandardError, [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); })
-                            : compare(r.film, *sensor, ref);
+            // (With several renders the relative MSE is redone below, over one denominator.)
+            auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
+            Errors e = self ? selfVariance(r.film, r.sharedStandardError, ownMeanSq) : compare(r.film, *sensor, ref);
             if (self) selfFilms.emplace_back(std::move(r.film), r.sharedStandardError);
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds});
