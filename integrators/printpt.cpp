@@ -596,7 +596,7 @@ float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int ch
     // The boundary straight along the sampled direction, and what gets there.
     auto hit = scene_.geometry->intersect({x, ds.d});
     if (!hit || dot(ds.d, hit->ng) <= 0) return 0.0f;
-    float T = medium.transmittance({x, ds.d}, hit->t, channel);
+    float T = medium.transmittance({x, ds.d}, hit->t, channel, {options_.neeRouletteDepth, &rng});
     if (T <= 0.0f) return 0.0f;
     float F = fresnelDielectric(dot(ds.d, hit->ns), 1.0f / scene_.ior);
     float phase = hgPhase(dot(dIn, ds.d), lut.g[label]);

@@ -70,6 +70,9 @@ struct PrintPtOptions {
     float neeMaxKappa = 50.0f;
     float neePruneScale = 4.0f;
     float neeMinProbability = 0.05f;
+    // Russian roulette on the NEE transmittance past this optical depth
+    // (unbiased; trackers.h TransmittanceRoulette); 100: exact.
+    float neeRouletteDepth = 2.0f;  // measured: docs/performance.md
     float rrThreshold = 0.25f;  // measured best on the test set (docs/performance.md)
     bool clearance = true;
     bool ballWalks = true;

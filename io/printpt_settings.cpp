@@ -17,6 +17,10 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"ball_walks", K::Boolean},
         {"ball_min_mfp", K::Number},
         {"nee", K::Boolean},
+        {"nee_max_kappa", K::Number},
+        {"nee_prune_scale", K::Number},
+        {"nee_min_probability", K::Number},
+        {"nee_roulette_depth", K::Number},
         {"control_variate", K::Boolean},
         {"control_walks", K::Integer},
         {"control_probe", K::Number},
@@ -48,6 +52,18 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
         o.ballWalks = on;
     } else if (key == "nee") {
         o.nee = on;
+    } else if (key == "nee_max_kappa") {
+        if (!(value >= 1 && value <= 1e4)) return "must be a concentration in 1..1e4";
+        o.neeMaxKappa = float(value);
+    } else if (key == "nee_prune_scale") {
+        if (!(value > 0 && value <= 1e6)) return "must be a number > 0";
+        o.neePruneScale = float(value);
+    } else if (key == "nee_min_probability") {
+        if (!(value >= 0 && value <= 1)) return "must be in [0, 1]";
+        o.neeMinProbability = float(value);
+    } else if (key == "nee_roulette_depth") {
+        if (!(value > 0 && value <= 100)) return "must be an optical depth in (0, 100]";
+        o.neeRouletteDepth = float(value);
     } else if (key == "control_variate") {
         o.controlVariate = on;
     } else if (key == "control_probe" || key == "control_probe_short") {

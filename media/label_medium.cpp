@@ -79,11 +79,12 @@ FreeFlight LabelMedium::Sampler::freeFlightAtDepth(const Ray& ray, float tMax_mm
                         medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
 }
 
-float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel) {
+float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel,
+                                          TransmittanceRoulette roulette) {
     auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,
                         medium_.luts_[channel], channel,
-                        [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
+                        [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, roulette);
 }
 
 }  // namespace pl

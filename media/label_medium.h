@@ -56,8 +56,10 @@ public:
         FreeFlight sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight);
         // The free flight at the given optical depth, by regular tracking.
         FreeFlight freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel, float opticalDepth);
-        // Exact transmittance by regular tracking along the ray up to tMax_mm.
-        float transmittance(const Ray& ray, float tMax_mm, int channel);
+        // Transmittance by regular tracking along the ray up to tMax_mm:
+        // exact, or with `roulette` an unbiased estimate that is cheaper
+        // through dense resin (trackers.h).
+        float transmittance(const Ray& ray, float tMax_mm, int channel, TransmittanceRoulette roulette = {});
         Label labelAt(const Vec3i& voxel);
         // Outward normal of the nearest surface and signed distance (mm) at
         // p, from the surface fields; false outside their band.

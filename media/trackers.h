@@ -260,10 +260,31 @@ FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& fra
     return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
 }
 
+// Russian roulette on a transmittance estimate: once the estimate
+// exp(-(tau - logScale)) falls below exp(-rouletteDepth), it survives with
+// probability estimate / exp(-rouletteDepth) and is scaled back up to that.
+// Unbiased; a segment through dense resin then ends about one optical depth
+// past the threshold instead of being tracked voxel by voxel to its end.
+struct TransmittanceRoulette {
+    float rouletteDepth = kOpaqueOpticalDepth;  // no roulette below this optical depth
+    Rng* rng = nullptr;                           // none: exact transmittance
+    float logScale = 0.0f;
+    // False: the estimate is 0 (the walk along the segment was ended).
+    PL_ALWAYS_INLINE bool survives(float tau) {
+        float excess = tau - logScale - rouletteDepth;
+        if (!rng || excess <= 0.0f) return true;
+        if (!(rng->uniform() < std::exp(-excess))) return false;
+        logScale += excess;
+        return true;
+    }
+};
+
+// Transmittance along the ray up to tMax_mm by regular tracking: exact, or
+// an unbiased estimate with the roulette above.
 template <class LabelLookup>
 float regularTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
                    const MajorantGrid& maj, const ChannelLut& lut, int channel,
-                   LabelLookup&& labelAt) {
+                   LabelLookup&& labelAt, TransmittanceRoulette roulette = {}) {
     float t0 = 0.0f, t1 = tMax_mm;
     if (!clipRayToBox(ray.o, ray.d, frame.indexMin, frame.indexMax(), t0, t1)) return 1.0f;
     constexpr float b = 1.0f / MajorantGrid::kBrickSize;
@@ -284,12 +305,16 @@ float regularTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
                      lo.z + MajorantGrid::kBrickSize};
             GridDda voxels(ray.o, ray.d, seg.t0, seg.t1, lo, hi);
             DdaSegment v;
-            while (voxels.next(v)) tau += lut.sigmaT_perMm[labelAt(v.cell)] * (v.t1 - v.t0);
+            while (voxels.next(v)) {
+                tau += lut.sigmaT_perMm[labelAt(v.cell)] * (v.t1 - v.t0);
+                if (!roulette.survives(tau)) return 0.0f;
+            }
         }
+        if (!roulette.survives(tau)) return 0.0f;
         // Early exit once nothing gets through.
-        if (tau > kOpaqueOpticalDepth) return 0.0f;
+        if (tau - roulette.logScale > kOpaqueOpticalDepth) return 0.0f;
     }
-    return std::exp(-tau);
+    return std::exp(-(tau - roulette.logScale));
 }
 
 // The collision at optical depth `opticalDepth` (an Exp(1) sample gives a

@@ -83,6 +83,46 @@ TEST(RegularTracking, HomogeneousBeerLambert) {
             EXPECT_NEAR(sampler.transmittance(r, d, c), std::exp(-medium.lut(c).sigmaT_perMm[4] * d), 1e-5f);
 }
 
+// With Russian roulette past an optical depth the transmittance is a random
+// estimate: its mean must be the exact value, in layered (voxel by voxel)
+// and homogeneous (whole bricks) media, and the roulette must actually end
+// some segments early.
+TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
+    LabelMedium layered = layeredMedium();
+    MaterialTable t;
+    t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
+    LabelMedium homogeneous(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }),
+                            t);
+    struct Case {
+        LabelMedium* medium;
+        Ray ray;
+        float tMax_mm;
+        int channel;
+    };
+    const Ray oblique{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    const Ray inside{{0.05f, 0.5f, 0.5f}, normalize(Vec3f(1.0f, 0.2f, 0.1f))};
+    for (const Case& c : {Case{&layered, oblique, 3.3f, 0}, Case{&layered, oblique, 3.3f, 2},
+                          Case{&homogeneous, inside, 0.5f, 1}, Case{&homogeneous, inside, 0.2f, 2}}) {
+        LabelMedium::Sampler sampler(*c.medium);
+        const double exact = sampler.transmittance(c.ray, c.tMax_mm, c.channel);
+        ASSERT_GT(exact, 1e-4);
+        ASSERT_LT(exact, 0.5) << c.tMax_mm << " " << c.channel;
+        Rng rng(7, 3);
+        const int n = 40000;
+        double sum = 0, sum2 = 0;
+        int ended = 0;
+        for (int i = 0; i < n; ++i) {
+            double T = sampler.transmittance(c.ray, c.tMax_mm, c.channel, TransmittanceRoulette{0.5f, &rng});
+            sum += T;
+            sum2 += T * T;
+            ended += T == 0.0;
+        }
+        const double mean = sum / n, stderrOfMean = std::sqrt((sum2 / n - mean * mean) / (n - 1));
+        EXPECT_NEAR(mean, exact, 4.0 * stderrOfMean) << c.tMax_mm;
+        EXPECT_GT(ended, n / 2) << "the roulette should end most segments this deep";
+    }
+}
+
 // Free-flight distances: chi-square over distance bins plus an escape bin.
 void checkFreeFlight(LabelMedium& medium, const Ray& r, float tMax, int channel,
                      const std::function<double(double)>& tau, int n, uint64_t seed) {
