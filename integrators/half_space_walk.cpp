@@ -14,10 +14,31 @@
 
 namespace pl {
 
+bool HalfSpace::exit(const Point3f& x, const Vec3f& d, float& t_mm, Vec3f& outward) const {
+    // F(t) = z + (kappaS u^2 + kappaT v^2) / 2 along the ray, negative
+    // inside: a t^2 + b t + c with a >= 0 and c <= 0 has one root t >= 0.
+    const Vec3f r = x - origin;
+    const float u = dot(r, axisS), v = dot(r, axisT), du = dot(d, axisS), dv = dot(d, axisT);
+    const float a = 0.5f * (kappaS_perMm * du * du + kappaT_perMm * dv * dv);
+    const float b = dot(d, normal) + kappaS_perMm * u * du + kappaT_perMm * v * dv;
+    const float c = std::min(0.0f, dot(r, normal) + 0.5f * (kappaS_perMm * u * u + kappaT_perMm * v * v));
+    if (a <= 1e-12f * std::abs(b)) {
+        if (b <= 0.0f) return false;
+        t_mm = -c / b;
+    } else {
+        const float root = std::sqrt(b * b - 4.0f * a * c);
+        t_mm = b >= 0.0f ? -2.0f * c / (b + root) : (root - b) / (2.0f * a);
+    }
+    const float ue = u + du * t_mm, ve = v + dv * t_mm;
+    outward = normalize(normal + axisS * (kappaS_perMm * ue) + axisT * (kappaT_perMm * ve));
+    return true;
+}
+
 bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light) {
     float t = opticalDepth / hs.sigmaT_perMm;
-    // The boundary plane the flight reaches first, if it reaches one.
-    const Vec3f* crossed = nullptr;
+    // The boundary the flight reaches first, if it reaches one.
+    bool crossed = false;
+    Vec3f crossedNormal;
     float cosCrossed = 0.0f;
     auto reach = [&](const Point3f& origin, const Vec3f& normal) {
         float towards = dot(w.d, normal);
@@ -25,12 +46,24 @@ bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth
         float tPlane = std::max(0.0f, dot(origin - w.x, normal)) / towards;
         if (tPlane <= t) {
             t = tPlane;
-            crossed = &normal;
+            crossed = true;
+            crossedNormal = normal;
             cosCrossed = towards;
         }
     };
-    reach(hs.origin, hs.normal);
-    if (hs.hasSide) reach(hs.sideOrigin, hs.sideNormal);
+    if (hs.curved) {
+        float tExit;
+        Vec3f outward;
+        if (hs.exit(w.x, w.d, tExit, outward) && tExit <= t) {
+            t = tExit;
+            crossed = true;
+            crossedNormal = outward;
+            cosCrossed = std::max(0.0f, dot(w.d, outward));
+        }
+    } else {
+        reach(hs.origin, hs.normal);
+        if (hs.hasSide) reach(hs.sideOrigin, hs.sideNormal);
+    }
     w.x = w.x + w.d * t;
     if (!crossed) {
         w.weight *= hs.albedo;
@@ -39,7 +72,9 @@ bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth
     float F = fresnelDielectric(cosCrossed, hs.etaOut);
     light += (1.0f - F) * w.weight;
     w.weight *= F;
-    w.d = reflect(w.d, *crossed);
+    // Inward after the reflection (round-off at grazing exits aside).
+    w.d = reflect(w.d, crossedNormal);
+    if (dot(w.d, crossedNormal) > 0.0f) w.d = reflect(w.d, crossedNormal);
     return false;
 }
 
@@ -125,15 +160,23 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
 
 HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                             uint64_t seed) {
-    using Key = std::tuple<float, float, float, float, float, float, float, float, int64_t, uint64_t>;
+    using Key = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
     static std::mutex mutex;
     static std::map<Key, HalfSpaceMean> known;
     const float side_mm = hs.hasSide ? dot(hs.sideOrigin - hs.origin, hs.sideNormal) : -1.0f;
-    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, roulette.threshold,
+    const float kappaS = hs.curved ? hs.kappaS_perMm : -1.0f, kappaT = hs.curved ? hs.kappaT_perMm : -1.0f;
+    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
                   roulette.cap, ballMinMfp, walks, seed};
+    {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (auto it = known.find(key); it != known.end()) return it->second;
+    }
+    // Estimated outside the lock, so that threads asking for different
+    // means estimate them side by side; two asking for the same one get
+    // the same bits (the estimate depends only on its key).
+    HalfSpaceMean m = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);
     std::lock_guard<std::mutex> lock(mutex);
-    if (auto it = known.find(key); it != known.end()) return it->second;
-    return known[key] = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);
+    return known.emplace(key, m).first->second;
 }
 
 }  // namespace pl

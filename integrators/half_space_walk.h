@@ -9,7 +9,12 @@
 // and loses the variance they share. Near an edge of the object the
 // control is a wedge instead: the half-space cut by a second plane, the
 // side face, at right angles; its mean also depends on the distance from
-// the entry to the edge, so it is tabulated over that distance.
+// the entry to the edge, so it is tabulated over that distance. Under a
+// convex curved surface it is the region under a paraboloid with the
+// surface's two principal curvatures at the entry, tabulated over both
+// (in units of the mean free path); the control takes the nearest
+// tabulated pair, so its mean is known exactly (no interpolation), and the
+// walks part where the real surface and the tabulated one differ.
 #pragma once
 
 #include <algorithm>
@@ -32,13 +37,58 @@ struct HalfSpace {
     bool hasSide = false;
     Point3f sideOrigin{0, 0, 0};
     Vec3f sideNormal{0, 0, 0};
+    // Curved (no side face then): the region below the paraboloid
+    // z = -(kappaS u^2 + kappaT v^2) / 2, with z along normal and u, v along
+    // the principal directions axisS, axisT from origin; curvatures >= 0 (1/mm).
+    bool curved = false;
+    Vec3f axisS{0, 0, 0}, axisT{0, 0, 0};
+    float kappaS_perMm = 0, kappaT_perMm = 0;
 
-    // Distance from x inside to the region's boundary (mm).
+    // A lower bound of the distance from x inside to the region's boundary
+    // (mm; exact for the planes).
     float depth(const Point3f& x) const {
+        if (curved) return curvedDepth(x);
         float d = dot(origin - x, normal);
         return hasSide ? std::min(d, dot(sideOrigin - x, sideNormal)) : d;
     }
+    // Curved: the distance along d from x inside to the boundary (mm) and
+    // the outward normal there; false if the ray never leaves the region.
+    bool exit(const Point3f& x, const Vec3f& d, float& t_mm, Vec3f& outward) const;
+
+private:
+    float curvedDepth(const Point3f& x) const {
+        // Within rho of x the boundary's height falls by at most
+        // |grad h| rho + kappaMax rho^2 / 2 and x rises by at most rho: the
+        // ball is inside while that stays below the vertical gap.
+        const Vec3f r = x - origin;
+        const float u = dot(r, axisS), v = dot(r, axisT);
+        const float gap = -(kappaS_perMm * u * u + kappaT_perMm * v * v) * 0.5f - dot(r, normal);
+        if (gap <= 0.0f) return 0.0f;
+        const float gradU = kappaS_perMm * u, gradV = kappaT_perMm * v;
+        const float b = 1.0f + std::sqrt(gradU * gradU + gradV * gradV);
+        const float kappaMax = std::max(kappaS_perMm, kappaT_perMm);
+        return 2.0f * gap / (b + std::sqrt(b * b + 2.0f * kappaMax * gap));
+    }
 };
+
+// The curvatures (in 1 / mean free path) at which curved controls are
+// tabulated: 0 (flat that way), then 0.004 x 1.2^(step - 1), up to about 2.
+constexpr int kCurvatureSteps = 36;
+inline float curvature_perMfp(int step) {
+    return step == 0 ? 0.0f : 0.004f * std::pow(1.2f, float(step - 1));
+}
+// The step nearest to kappa (1 / mfp) in ratio, or -1 beyond the table.
+inline int nearestCurvatureStep(float kappa_perMfp) {
+    if (kappa_perMfp < 0.004f / std::sqrt(1.2f)) return 0;
+    int step = 1 + int(std::lround(std::log(kappa_perMfp / 0.004f) / std::log(1.2f)));
+    return step < kCurvatureSteps ? step : -1;
+}
+// Index of the unordered pair of steps, 0 .. kCurvaturePairs - 1.
+constexpr int kCurvaturePairs = kCurvatureSteps * (kCurvatureSteps + 1) / 2;
+inline int curvaturePairIndex(int i, int j) {
+    if (i < j) std::swap(i, j);
+    return i * (i + 1) / 2 + j;
+}
 
 // The distances from the entry to the edge (mean free paths) at which wedge
 // controls are tabulated: every quarter up to 4, then 6.25 % apart (to 61). The

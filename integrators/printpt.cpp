@@ -12,6 +12,27 @@
 
 namespace pl {
 
+namespace {
+
+// The solution of the 3x3 system a x = b by Cramer's rule; false if singular.
+bool solve3x3(const double a[3][3], const double b[3], double x[3]) {
+    auto det = [](const double m[3][3]) {
+        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+               m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+    };
+    const double d = det(a);
+    if (!(std::abs(d) > 1e-300)) return false;
+    for (int col = 0; col < 3; ++col) {
+        double m[3][3];
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) m[r][c] = c == col ? b[r] : a[r][c];
+        x[col] = det(m) / d;
+    }
+    return true;
+}
+
+}  // namespace
+
 float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                   PathStats& stats) const {
     return traceOneChannel(scene_, channel, [&](const auto& path) { return trace(ray, path, medium, rng, stats); });
@@ -263,17 +284,17 @@ float PrintPt::sharedStandardError(int channel) const {
     return worst * scene_.environment[channel];
 }
 
-float PrintPt::controlMean(int channel, Label label, int edgeStep) const {
-    const size_t index = controlIndex(channel, label, edgeStep + 1);
+float PrintPt::controlMean(int channel, Label label, const ControlShape& shape) const {
+    const size_t index = controlIndex(channel, label, shape.index());
     float mean = controlMean_[index].load(std::memory_order_acquire);
     if (mean != kControlUnknown) return mean;
     // First use: estimate it (the same bits whichever thread gets here
     // first), kept from other render tiles while the estimate runs.
     // The mean does not depend on sigma_t (it only scales the walk's
-    // lengths, the edge's distance included, which is in mean free paths):
-    // estimated at sigma_t = 1, seeded by what it depends on, so that
-    // materials and channels of equal albedo and g (white resin's three
-    // channels) share one estimate.
+    // lengths, the edge's distance and the curvatures included, which are
+    // in mean free paths): estimated at sigma_t = 1, seeded by what it
+    // depends on, so that materials and channels of equal albedo and g
+    // (white resin's three channels) share one estimate.
     const ChannelLut& lut = scene_.medium->lut(channel);
     HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 1.0f, lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
     uint64_t seed = 0;
@@ -282,15 +303,25 @@ float PrintPt::controlMean(int channel, Label label, int edgeStep) const {
         std::memcpy(&bits, &v, sizeof bits);
         seed = mix64(seed ^ bits);
     }
-    // The wedges, one per tabulated edge distance, are many: a quarter of
-    // the walks each (their shared error is still far below a pixel's).
+    // The wedges and curved regions are many: a quarter (wedges) or a
+    // 32nd (curved: a hundred or more pairs per channel on curved objects)
+    // of the walks each; their shared error is still far below a pixel's.
     int64_t walks = options_.controlWalks;
-    if (edgeStep >= 0) {
+    if (shape.index() > 0) {
+        seed = mix64(seed ^ uint64_t(shape.index()));
+        walks = std::max<int64_t>(1024, walks / (shape.curveS >= 0 ? 32 : 4));
+    }
+    if (shape.edgeStep >= 0) {
         hs.hasSide = true;
         hs.sideNormal = {1, 0, 0};
-        hs.sideOrigin = {edgeDistance_mfp(edgeStep), 0, 0};
-        seed = mix64(seed ^ (uint64_t(edgeStep) + 1));
-        walks = std::max<int64_t>(1024, walks / 4);
+        hs.sideOrigin = {edgeDistance_mfp(shape.edgeStep), 0, 0};
+    } else if (shape.curveS >= 0) {
+        // The pair in one order, whichever order the surface had.
+        hs.curved = true;
+        hs.axisS = {1, 0, 0};
+        hs.axisT = {0, 1, 0};
+        hs.kappaS_perMm = curvature_perMfp(std::max(shape.curveS, shape.curveT));
+        hs.kappaT_perMm = curvature_perMfp(std::min(shape.curveS, shape.curveT));
     }
     HalfSpaceMean m;
     tbb::this_task_arena::isolate([&] {
@@ -375,24 +406,27 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // the object holds a ball that deep below the entry. Cheapest first.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
-    std::optional<Edge> edge;
-    bool fits = controlFits(inside, l, options_.controlProbe * diffusion_mm, diffusion_mm, control, edge);
-    // Curved surfaces fail the probe above; over a shorter reach the
-    // control still follows the walk for a while, if the body is thick
-    // enough below the entry that the walks do not part at once.
+    const float reach_mm = options_.controlProbe * diffusion_mm;
+    ControlShape shape;
+    if (!materialBelow(inside, l, reach_mm, control)) return false;
+    bool fits = controlFits(inside, reach_mm, diffusion_mm, control, shape);
+    // Curved surfaces fail the flat probes: the region under a paraboloid
+    // that follows the surface, or a plane over a shorter reach, if the
+    // body is thick enough below the entry that the walks do not part at once.
+    if (!fits && options_.controlCurved) fits = curvedControlFits(inside, reach_mm, diffusion_mm, control, shape);
     if (!fits && options_.controlProbeShort > 0.0f) {
         if (holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm)) {
             control.hasSide = false;
-            fits = controlFits(inside, l, options_.controlProbeShort * diffusion_mm, diffusion_mm, control, edge);
+            shape = {};
+            fits = controlFits(inside, options_.controlProbeShort * diffusion_mm, diffusion_mm, control, shape);
         }
     }
     if (!fits) return false;
-    mean = controlMean(path.channel, l, edge ? edge->step : -1) * path.Le;
+    mean = controlMean(path.channel, l, shape) * path.Le;
     return true;
 }
 
-bool PrintPt::controlFits(const Ray& inside, Label l, float reach_mm, float diffusion_mm, HalfSpace& control,
-                          std::optional<Edge>& edge) const {
+bool PrintPt::materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const {
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const Frame plane(control.normal);
     const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
@@ -408,6 +442,72 @@ bool PrintPt::controlFits(const Ray& inside, Label l, float reach_mm, float diff
         for (const Vec3f& along : alongPlane)
             if (!holdsMaterial(below + along * (f * reach_mm))) return false;
     }
+    return true;
+}
+
+bool PrintPt::curvedControlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control, ControlShape& shape) const {
+    // The surface's drop below the entry plane at the closest points to 8
+    // points around the entry, at half and full reach, fitted by least
+    // squares with drop = (k11 x^2 + 2 k12 x y + k22 y^2) / 2.
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
+    // Only on bodies a diffusion length thick below the entry: on thinner
+    // parts the walks soon reach surface the fit did not see, part, and
+    // the probes and continuations cost more than they save (measured on
+    // the white animal, docs/performance.md).
+    if (!holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm)) return false;
+    const Frame plane(control.normal);
+    constexpr int kProbes = 16;
+    float xs[kProbes], ys[kProbes], drops[kProbes];
+    double normal[3][3] = {}, rhs[3] = {};
+    for (int i = 0; i < kProbes; ++i) {
+        const float angle = float(i / 2) * (kPi / 4.0f), f = i % 2 ? 1.0f : 0.5f;
+        const Vec3f along = plane.s * std::cos(angle) + plane.t * std::sin(angle);
+        auto nearest = scene_.geometry->closestPoint(inside.o + along * (f * reach_mm), 2.0f * reach_mm);
+        if (!nearest) return false;
+        const Vec3f off = nearest->p - inside.o;
+        xs[i] = dot(off, plane.s);
+        ys[i] = dot(off, plane.t);
+        drops[i] = -dot(off, control.normal);
+        const double basis[3] = {0.5 * xs[i] * xs[i], double(xs[i]) * ys[i], 0.5 * ys[i] * ys[i]};
+        for (int a = 0; a < 3; ++a) {
+            rhs[a] += basis[a] * drops[i];
+            for (int b = 0; b < 3; ++b) normal[a][b] += basis[a] * basis[b];
+        }
+    }
+    double k[3];
+    if (!solve3x3(normal, rhs, k)) return false;
+    // Principal curvatures and the direction of the larger (Euler).
+    const double mean = 0.5 * (k[0] + k[2]), half = std::sqrt(0.25 * (k[0] - k[2]) * (k[0] - k[2]) + k[1] * k[1]);
+    const float angle = 0.5f * float(std::atan2(2.0 * k[1], k[0] - k[2]));
+    const int stepS = nearestCurvatureStep(float(mean + half) * mfp_mm);
+    const int stepT = nearestCurvatureStep(float(mean - half) * mfp_mm);  // 0 for saddles: the check below decides
+    if (stepS <= 0 || stepT < 0) return false;
+    const float kappaS = curvature_perMfp(stepS) / mfp_mm, kappaT = curvature_perMfp(stepT) / mfp_mm;
+    const float c = std::cos(angle), sn = std::sin(angle);
+    // The tabulated paraboloid must follow every probe within a quarter of
+    // a mean free path, as the plane must for the half-space.
+    const float tolerance_mm = 0.25f * mfp_mm;
+    for (int i = 0; i < kProbes; ++i) {
+        const float u = c * xs[i] + sn * ys[i], v = -sn * xs[i] + c * ys[i];
+        if (std::abs(0.5f * (kappaS * u * u + kappaT * v * v) - drops[i]) > tolerance_mm) return false;
+    }
+    control.hasSide = false;
+    control.curved = true;
+    control.axisS = plane.s * c + plane.t * sn;
+    control.axisT = plane.t * c - plane.s * sn;
+    control.kappaS_perMm = kappaS;
+    control.kappaT_perMm = kappaT;
+    shape = {};
+    shape.curveS = stepS;
+    shape.curveT = stepT;
+    return true;
+}
+
+bool PrintPt::controlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control,
+                          ControlShape& shape) const {
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
+    const Frame plane(control.normal);
+    const Vec3f alongPlane[4] = {plane.s, -plane.s, plane.t, -plane.t};
     // The surface along the plane, four ways: where it leaves the plane both
     // ways along a line the surface is curved or the part thin, and no edge
     // explains that (this also spares curved objects the edge search's rays).
@@ -416,7 +516,8 @@ bool PrintPt::controlFits(const Ray& inside, Label l, float reach_mm, float diff
     bool leaves[4];
     for (int i = 0; i < 4; ++i) leaves[i] = !geometry.closestPoint(inside.o + alongPlane[i] * reach_mm, flat_mm);
     if ((leaves[0] && leaves[1]) || (leaves[2] && leaves[3])) return false;
-    edge = findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm);
+    std::optional<Edge> edge = findEdge(control, options_.controlEdgeReach * diffusion_mm, reach_mm);
+    if (edge) shape.edgeStep = edge->step;
     // Distance from p to the real side face (mm; huge without one).
     auto insideSide = [&](const Point3f& p) {
         return edge ? edge->distance_mm - dot(p - control.origin, control.sideNormal) : 1e30f;

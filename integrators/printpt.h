@@ -88,6 +88,9 @@ struct PrintPtOptions {
     float controlProbeShort = 0.0f;
     // How far (diffusion lengths) an edge is looked for; 0: half-space controls only.
     float controlEdgeReach = 6.0f;
+    // Under convex curved surfaces that fail the flat probes: the control
+    // under a paraboloid with the surface's principal curvatures (tabulated).
+    bool controlCurved = true;
     // Where the two walks part, the control's remainder is the mean of this
     // many independent continuations from its state (an unbiased estimate
     // of the remainder's expectation: less of its variance, more walks;
@@ -144,11 +147,30 @@ private:
         float distance_mm;  // the real edge's distance from the entry
     };
     std::optional<Edge> findEdge(HalfSpace& control, float reach_mm, float ignore_mm) const;
+    // Which tabulated control a branch has: the half-space, a wedge or a
+    // curved region (steps of half_space_walk.h).
+    struct ControlShape {
+        int edgeStep = -1;             // >= 0: the wedge with its edge at this step
+        int curveS = -1, curveT = -1;  // >= 0: the paraboloid with these curvature steps
+        int index() const {
+            return edgeStep >= 0 ? 1 + edgeStep
+                   : curveS >= 0 ? 1 + kEdgeSteps + curvaturePairIndex(curveS, curveT)
+                                 : 0;
+        }
+    };
+    // Whether the bricks sampled below the entry, over reach_mm, hold only
+    // material l (or void).
+    bool materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const;
     // Whether the control of material l under the entry plane may run:
-    // the probes over reach_mm (controlFor). Sets the control's side plane
-    // and the edge where it is a wedge.
-    bool controlFits(const Ray& inside, Label l, float reach_mm, float diffusion_mm, HalfSpace& control,
-                     std::optional<Edge>& edge) const;
+    // the flatness probes over reach_mm (controlFor). Sets the control's
+    // side plane and the shape where it is a wedge.
+    bool controlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control,
+                     ControlShape& shape) const;
+    // Whether the surface over reach_mm is, within a quarter of a mean free
+    // path, a convex paraboloid with tabulated curvatures; sets the control
+    // to the region under it and the shape.
+    bool curvedControlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control,
+                           ControlShape& shape) const;
     // Whether the object holds the ball of radius_mm around centre (no
     // surface within 0.9 radius_mm).
     bool holdsBall(const Point3f& centre, float radius_mm) const;
@@ -180,15 +202,14 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
-    // Per channel, label and shape (0: half-space, 1 + step: the wedge with
-    // its edge at edgeDistance_mfp(step)): the control's mean, estimated at
-    // first use, and its standard error.
+    // Per channel, label and shape (ControlShape::index): the control's
+    // mean, estimated at first use, and its standard error.
     static constexpr float kControlUnknown = -1.0f;
-    static constexpr int kControlShapes = 1 + kEdgeSteps;
+    static constexpr int kControlShapes = 1 + kEdgeSteps + kCurvaturePairs;
     static size_t controlIndex(int channel, Label label, int shape) {
         return (size_t(channel) * 256 + label) * kControlShapes + size_t(shape);
     }
-    float controlMean(int channel, Label label, int edgeStep) const;
+    float controlMean(int channel, Label label, const ControlShape& shape) const;
     std::unique_ptr<std::atomic<float>[]> controlMean_, controlStdErr_;
 };
 

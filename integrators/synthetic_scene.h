@@ -28,6 +28,27 @@ inline TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi) {
     return m;
 }
 
+// A sphere of `segments` around and segments / 2 from pole to pole,
+// triangles counter-clockwise from outside, with its exact normals.
+inline TriangleMesh sphereMesh(const Point3f& centre, float radius, int segments) {
+    TriangleMesh m;
+    const int rings = segments / 2;
+    for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const float theta = kPi * float(i) / float(rings), phi = 2.0f * kPi * float(j) / float(segments);
+            const Vec3f n{std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+            m.positions_mm.push_back(centre + n * radius);
+            m.normals.push_back(n);
+        }
+    auto at = [&](int i, int j) { return uint32_t(i * segments + (j % segments)); };
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j), at(i, j + 1)});
+            if (i + 1 < rings) m.indices.insert(m.indices.end(), {at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)});
+        }
+    return m;
+}
+
 // A prism along y over the triangle (0,0), (length,0), (length,height) in
 // x-z: a wedge whose sharp edge (angle atan(height/length)) lies on the
 // y axis at x = z = 0. Offset by `origin`.

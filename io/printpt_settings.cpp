@@ -26,6 +26,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_probe", K::Number},
         {"control_probe_short", K::Number},
         {"control_edge_reach", K::Number},
+        {"control_curved", K::Boolean},
         {"control_continuations", K::Integer},
     };
     return keys;
@@ -64,6 +65,8 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     } else if (key == "nee_roulette_depth") {
         if (!(value > 0 && value <= 100)) return "must be an optical depth in (0, 100]";
         o.neeRouletteDepth = float(value);
+    } else if (key == "control_curved") {
+        o.controlCurved = on;
     } else if (key == "control_variate") {
         o.controlVariate = on;
     } else if (key == "control_probe" || key == "control_probe_short") {

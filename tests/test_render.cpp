@@ -292,5 +292,60 @@ TEST(HalfSpaceWalk, WedgeMeanScalesAndMeetsTheHalfSpaceFarFromTheEdge) {
     EXPECT_GT(unit.mean - plane.mean, 8.0 * std::hypot(unit.standardError, plane.standardError));
 }
 
+// Under a curved surface the control is the region below a paraboloid. A
+// flight leaves where the paraboloid is, with its normal there; depth() is
+// a lower bound of the distance to it (no point of the ball it promises
+// lies outside); the mean, in mean free paths, scales with sigma_t (the
+// curvatures scale too), and a curved region lets out more light than the
+// half-space (less room to wander off).
+TEST(HalfSpaceWalk, CurvedRegionExitsDepthAndMean) {
+    HalfSpace curved{{0, 0, 0}, {0, 0, 1}, 1.0f, 0.95f, 0.4f, 1.0f / 1.5f};
+    curved.curved = true;
+    curved.axisS = normalize(Vec3f(1, 1, 0));
+    curved.axisT = normalize(Vec3f(-1, 1, 0));
+    curved.kappaS_perMm = 0.5f;
+    curved.kappaT_perMm = 0.1f;
+    auto outside = [&](const Point3f& p) {
+        const float u = dot(p - curved.origin, curved.axisS), v = dot(p - curved.origin, curved.axisT);
+        return dot(p - curved.origin, curved.normal) + 0.5f * (0.5f * u * u + 0.1f * v * v);
+    };
+    Rng rng(3, 1);
+    auto anyDirection = [&] { return sampleHG({0, 0, 1}, 0.0f, rng.uniform(), rng.uniform()).dOut; };
+    for (int i = 0; i < 2000; ++i) {
+        const Point3f x{4.0f * (rng.uniform() - 0.5f), 4.0f * (rng.uniform() - 0.5f), -3.0f * rng.uniform() - 0.01f};
+        if (outside(x) >= 0.0f) continue;
+        const Vec3f d = anyDirection();
+        float t;
+        Vec3f n;
+        if (curved.exit(x, d, t, n)) {
+            const Point3f e = x + d * t;
+            EXPECT_NEAR(outside(e), 0.0f, 1e-4f * (1.0f + t)) << i;
+            // The normal is the paraboloid's gradient, outward.
+            const float u = dot(e, curved.axisS), v = dot(e, curved.axisT);
+            const Vec3f gradient = normalize(curved.normal + curved.axisS * (0.5f * u) + curved.axisT * (0.1f * v));
+            EXPECT_GT(dot(n, gradient), 0.9999f) << i;
+            EXPECT_GE(dot(d, n), -1e-4f) << i;
+        }
+        // No point of the ball depth(x) promises is outside.
+        const float r = curved.depth(x);
+        EXPECT_GE(r, 0.0f);
+        for (int j = 0; j < 8; ++j)
+            EXPECT_LT(outside(x + anyDirection() * r), 1e-5f) << i;
+    }
+    const RouletteRule roulette{0.25f, 1.0f};
+    HalfSpace dense = curved;
+    dense.sigmaT_perMm = 24.0f;
+    dense.kappaS_perMm *= 24.0f;
+    dense.kappaT_perMm *= 24.0f;
+    HalfSpaceMean unit = estimateHalfSpaceMean(curved, roulette, 1.0f, 100000, 5);
+    HalfSpaceMean scaled = estimateHalfSpaceMean(dense, roulette, 1.0f, 100000, 6);
+    double combined = std::hypot(unit.standardError, scaled.standardError);
+    EXPECT_NEAR(unit.mean, scaled.mean, 4.0 * combined) << "stderr " << combined;
+    HalfSpace flat = curved;
+    flat.curved = false;
+    HalfSpaceMean plane = estimateHalfSpaceMean(flat, roulette, 1.0f, 100000, 7);
+    EXPECT_GT(unit.mean - plane.mean, 8.0 * std::hypot(unit.standardError, plane.standardError));
+}
+
 }  // namespace
 }  // namespace pl
