@@ -450,11 +450,12 @@ bool PrintPt::curvedControlFits(const Ray& inside, float reach_mm, float diffusi
     // points around the entry, at half and full reach, fitted by least
     // squares with drop = (k11 x^2 + 2 k12 x y + k22 y^2) / 2.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
-    // Only on bodies a diffusion length thick below the entry: on thinner
-    // parts the walks soon reach surface the fit did not see, part, and
-    // the probes and continuations cost more than they save (measured on
-    // the white animal, docs/performance.md).
-    if (!holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm)) return false;
+    // Only on thick bodies below the entry: on thinner parts the walks
+    // soon reach surface the fit did not see, part, and the probes and
+    // continuations cost more than they save (the white animal: 0.85x at
+    // one diffusion length, 0.98x at two; docs/performance.md).
+    const float thickness_mm = options_.controlCurvedThickness * diffusion_mm;
+    if (!holdsBall(control.origin + inside.d * thickness_mm, thickness_mm)) return false;
     const Frame plane(control.normal);
     constexpr int kProbes = 16;
     float xs[kProbes], ys[kProbes], drops[kProbes];

@@ -37,7 +37,9 @@
 //    one material and the surface flat over the walk's reach (controlFor);
 //    within `controlEdgeReach` of a right-angled edge the control is the
 //    wedge under both faces, with the mean tabulated over the distance to
-//    the edge;
+//    the edge; under convex curved surfaces (`controlCurved`) it is the
+//    region under a paraboloid fitted to the surface, with the mean
+//    tabulated over its two principal curvatures;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
@@ -91,6 +93,9 @@ struct PrintPtOptions {
     // Under convex curved surfaces that fail the flat probes: the control
     // under a paraboloid with the surface's principal curvatures (tabulated).
     bool controlCurved = true;
+    // ... where the object holds a ball this many diffusion lengths deep
+    // (and wide) below the entry (measured: docs/performance.md).
+    float controlCurvedThickness = 2.0f;
     // Where the two walks part, the control's remainder is the mean of this
     // many independent continuations from its state (an unbiased estimate
     // of the remainder's expectation: less of its variance, more walks;

@@ -253,6 +253,7 @@ TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     s.spp = 2;
     s.seed = 42;
     s.printpt.controlWalks = 1 << 16;
+    s.printpt.controlCurvedThickness = 1.0f;  // red's diffusion length is 1.75 mm: the default 2 would leave it out
     RenderResult curved = render(scene, sensor, s);
     expectAgreement(volpath, test::meanOf(curved), "curved controls, white ball");
     s.printpt.controlCurved = false;
