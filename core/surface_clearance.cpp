@@ -16,9 +16,9 @@ SurfaceClearance::SurfaceClearance(const Geometry& geometry, const GridFrame& fr
     centerDistance_mm_.assign(size_t(blocks_.x) * blocks_.y * blocks_.z, 0.0f);
     const Vec3f block_mm{kB * frame.voxelSize_mm.x, kB * frame.voxelSize_mm.y, kB * frame.voxelSize_mm.z};
     // Beyond this no query is needed: flights that long are rare in resin.
-    const float searchRadius_mm = 4.0f * length(block_mm);
+    const float searchRadius_mm = searchRadius_mm_ = 4.0f * length(block_mm);
     // Room for round-off in the ray origin and the world -> cell mapping.
-    const float margin_mm = 4.0f * geometry.rayEpsilon_mm() + 1e-4f * length(block_mm);
+    const float margin_mm = margin_mm_ = 4.0f * geometry.rayEpsilon_mm() + 1e-4f * length(block_mm);
     tbb::parallel_for(0, blocks_.z, [&](int z) {
         for (int y = 0; y < blocks_.y; ++y)
             for (int x = 0; x < blocks_.x; ++x) {

@@ -7,6 +7,7 @@
 // resin need none).
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "core/geometry.h"
@@ -34,6 +35,23 @@ public:
         return centerDistance_mm_[blockIndex(b[0], b[1], b[2])] - length(fromCenter_mm);
     }
 
+    // A distance (mm) that the boundary is no farther than from p, where
+    // the block's query found it (within its search radius); +inf where
+    // that is not known.
+    float upperBoundAt(const Point3f& p) const {
+        int b[3];
+        Vec3f fromCenter_mm;
+        for (int a = 0; a < 3; ++a) {
+            float cell = p[a] * scale_[a] + offset_[a];
+            if (!(cell >= 0.0f && cell < float(voxelCount_[a]))) return std::numeric_limits<float>::infinity();
+            b[a] = int(cell) >> kBlockLog2;
+            fromCenter_mm[a] = (cell - (float(b[a] << kBlockLog2) + 0.5f * (1 << kBlockLog2))) * voxel_mm_[a];
+        }
+        const float centre = centerDistance_mm_[blockIndex(b[0], b[1], b[2])] + margin_mm_;
+        if (!(centre < searchRadius_mm_)) return std::numeric_limits<float>::infinity();
+        return centre + length(fromCenter_mm) + margin_mm_;
+    }
+
 private:
     size_t blockIndex(int x, int y, int z) const { return (size_t(z) * blocks_.y + y) * blocks_.x + x; }
     Vec3i blocks_, voxelCount_;
@@ -41,6 +59,7 @@ private:
     Vec3f voxel_mm_;
     // Distance from each block's centre to the boundary, less a round-off margin.
     std::vector<float> centerDistance_mm_;
+    float searchRadius_mm_ = 0, margin_mm_ = 0;
 };
 
 }  // namespace pl

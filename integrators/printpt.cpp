@@ -445,17 +445,18 @@ bool PrintPt::materialBelow(const Ray& inside, Label l, float reach_mm, const Ha
     return true;
 }
 
-bool PrintPt::curvedControlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control, ControlShape& shape) const {
-    // The surface's drop below the entry plane at the closest points to 8
-    // points around the entry, at half and full reach, fitted by least
-    // squares with drop = (k11 x^2 + 2 k12 x y + k22 y^2) / 2.
-    const float mfp_mm = 1.0f / control.sigmaT_perMm;
+bool PrintPt::curvedControlFits(const Ray& inside, float reach_mm, float diffusion_mm, HalfSpace& control,
+                                ControlShape& shape) const {
     // Only on thick bodies below the entry: on thinner parts the walks
     // soon reach surface the fit did not see, part, and the probes and
     // continuations cost more than they save (the white animal: 0.85x at
     // one diffusion length, 0.98x at two; docs/performance.md).
     const float thickness_mm = options_.controlCurvedThickness * diffusion_mm;
     if (!holdsBall(control.origin + inside.d * thickness_mm, thickness_mm)) return false;
+    // The surface's drop below the entry plane at the closest points to 8
+    // points around the entry, at half and full reach, fitted by least
+    // squares with drop = (k11 x^2 + 2 k12 x y + k22 y^2) / 2.
+    const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const Frame plane(control.normal);
     constexpr int kProbes = 16;
     float xs[kProbes], ys[kProbes], drops[kProbes];
@@ -544,6 +545,11 @@ bool PrintPt::controlFits(const Ray& inside, float reach_mm, float diffusion_mm,
 
 bool PrintPt::holdsBall(const Point3f& centre, float radius_mm) const {
     if (radius_mm <= 0.0f) return true;
+    // The clearance grid's bounds settle most cases without a query.
+    if (const SurfaceClearance* clearance = scene_.clearance.get()) {
+        if (clearance->at(centre) >= 0.9f * radius_mm) return true;
+        if (clearance->upperBoundAt(centre) < 0.9f * radius_mm) return false;
+    }
     auto nearest = scene_.geometry->closestPoint(centre, radius_mm);
     return !nearest || nearest->distance_mm >= 0.9f * radius_mm;
 }

@@ -1,5 +1,6 @@
 // The surface clearance is a lower bound of the distance to the boundary
-// everywhere in the frame (else printpt would miss boundary crossings), and
+// everywhere in the frame (else printpt would miss boundary crossings), its
+// upper bound one where known (printpt's ball tests trust both), and
 // deep inside it is large enough to skip queries. The bricks' uniform reach
 // (how far around a brick only its label lies) matches brute force.
 #include <gtest/gtest.h>
@@ -26,7 +27,7 @@ TEST(SurfaceClearance, IsALowerBoundOfTheDistanceToTheBoundary) {
     SurfaceClearance clearance(geometry, frame);
 
     Rng rng(7, 0);
-    int positive = 0;
+    int positive = 0, known = 0;
     for (int i = 0; i < 200000; ++i) {
         Point3f p{frame.cornerMin_mm.x + rng.uniform() * (hi.x - frame.cornerMin_mm.x),
                   frame.cornerMin_mm.y + rng.uniform() * (hi.y - frame.cornerMin_mm.y),
@@ -36,7 +37,14 @@ TEST(SurfaceClearance, IsALowerBoundOfTheDistanceToTheBoundary) {
         float bound = clearance.at(p);
         ASSERT_LE(bound, c->distance_mm) << "at " << p.x << "," << p.y << "," << p.z;
         positive += bound > 0.0f;
+        // The upper bound, where the block's query found the boundary.
+        float upper = clearance.upperBoundAt(p);
+        ASSERT_GE(upper, c->distance_mm) << "at " << p.x << "," << p.y << "," << p.z;
+        known += std::isfinite(upper);
     }
+    // Within its search radius (four block diagonals, ~1.5 mm) of the
+    // boundary, which is most of this box, the upper bound is known.
+    EXPECT_GT(known, 200000 / 2);
     // The box is 2.5 x 3.8 x 2.0 mm and a brick's half diagonal 0.39 mm:
     // much of the inside must be cleared.
     EXPECT_GT(positive, 200000 / 5);
