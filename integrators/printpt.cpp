@@ -402,23 +402,27 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     // where, over the probe's reach (diffusion lengths of the material), the
     // bricks sampled below the entry hold only its material, the surface stays
     // within a quarter of a mean free path of the plane (and of the side
-    // face, near a right-angled edge: the control is then the wedge), and
-    // the object holds a ball that deep below the entry. Cheapest first.
+    // face, near a right-angled edge: the control is then the wedge; or of
+    // a tabulated convex paraboloid: the curved control), and the object
+    // holds a ball that deep below the entry. Cheapest first.
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
     const float reach_mm = options_.controlProbe * diffusion_mm;
     ControlShape shape;
-    if (!materialBelow(inside, l, reach_mm, control)) return false;
-    bool fits = controlFits(inside, reach_mm, diffusion_mm, control, shape);
+    const bool onlyMaterial = materialBelow(inside, l, reach_mm, control);
+    bool fits = onlyMaterial && controlFits(inside, reach_mm, diffusion_mm, control, shape);
     // Curved surfaces fail the flat probes: the region under a paraboloid
     // that follows the surface, or a plane over a shorter reach, if the
     // body is thick enough below the entry that the walks do not part at once.
-    if (!fits && options_.controlCurved) fits = curvedControlFits(inside, reach_mm, diffusion_mm, control, shape);
+    if (!fits && onlyMaterial && options_.controlCurved)
+        fits = curvedControlFits(inside, reach_mm, diffusion_mm, control, shape);
     if (!fits && options_.controlProbeShort > 0.0f) {
-        if (holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm)) {
+        const float shortReach_mm = options_.controlProbeShort * diffusion_mm;
+        if (holdsBall(control.origin + inside.d * diffusion_mm, diffusion_mm) &&
+            materialBelow(inside, l, shortReach_mm, control)) {
             control.hasSide = false;
             shape = {};
-            fits = controlFits(inside, options_.controlProbeShort * diffusion_mm, diffusion_mm, control, shape);
+            fits = controlFits(inside, shortReach_mm, diffusion_mm, control, shape);
         }
     }
     if (!fits) return false;
