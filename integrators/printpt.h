@@ -96,6 +96,9 @@ struct PrintPtOptions {
     // ... where the object holds a ball this many diffusion lengths deep
     // (and wide) below the entry (measured: docs/performance.md).
     float controlCurvedThickness = 2.0f;
+    // ... and where the tabulated paraboloid follows the surface within this
+    // many mean free paths at all 16 probes (measured: docs/performance.md).
+    float controlCurvedTolerance = 1.0f;
     // Where the two walks part, the control's remainder is the mean of this
     // many independent continuations from its state (an unbiased estimate
     // of the remainder's expectation: less of its variance, more walks;

@@ -28,6 +28,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_edge_reach", K::Number},
         {"control_curved", K::Boolean},
         {"control_curved_thickness", K::Number},
+        {"control_curved_tolerance", K::Number},
         {"control_continuations", K::Integer},
     };
     return keys;
@@ -71,6 +72,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     } else if (key == "control_curved_thickness") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
         o.controlCurvedThickness = float(value);
+    } else if (key == "control_curved_tolerance") {
+        if (!(value > 0 && value <= 100)) return "must be a number of mean free paths in (0, 100]";
+        o.controlCurvedTolerance = float(value);
     } else if (key == "control_variate") {
         o.controlVariate = on;
     } else if (key == "control_probe" || key == "control_probe_short") {
