@@ -54,6 +54,22 @@ using test::Estimate;
 using test::expectAgreement;
 using test::renderMean;
 
+// Every n-th surface voxel of the grid (by x + y + z): enough pixels for
+// these tests at a fraction of the cost.
+std::vector<SurfaceVoxel> everyNthSurfaceVoxel(const LabelGrid& g, int n) {
+    std::vector<SurfaceVoxel> some;
+    for (const SurfaceVoxel& v : g.surfaceVoxels())
+        if ((v.voxel.x + v.voxel.y + v.voxel.z) % n == 0) some.push_back(v);
+    return some;
+}
+
+// The per-pixel variances of channel c, summed over the sensor's pixels.
+double summedVariance(const RenderResult& r, const Sensor& sensor, int c) {
+    double v = 0;
+    for (size_t p = 0; p < sensor.pixelCount(); ++p) v += std::pow(double(r.film.standardError(p, c)), 2);
+    return v;
+}
+
 TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
     for (float ior : {1.0f, 1.5f}) {
         Scene scene = mixedScene(ior);
@@ -121,10 +137,7 @@ TEST(PrintPt, BallWalksAgreeWithVolpath) {
                                  },
                                  t, 1.5f);
     const LabelGrid& g = scene.medium->grid();
-    std::vector<SurfaceVoxel> some;  // every 8th surface voxel is enough
-    for (const SurfaceVoxel& v : g.surfaceVoxels())
-        if ((v.voxel.x + v.voxel.y + v.voxel.z) % 8 == 0) some.push_back(v);
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), some);
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 8));
     RenderSettings reference;
     reference.spp = 4;
     reference.seed = 21;
@@ -161,10 +174,7 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
                                      },
                                      t, 1.5f);
         const LabelGrid& g = scene.medium->grid();
-        std::vector<SurfaceVoxel> some;  // every 4th surface voxel is enough
-        for (const SurfaceVoxel& v : g.surfaceVoxels())
-            if ((v.voxel.x + v.voxel.y + v.voxel.z) % 4 == 0) some.push_back(v);
-        SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), some);
+        SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 4));
         RenderSettings reference;
         reference.spp = 6;
         reference.seed = 31;
@@ -200,14 +210,9 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         expectAgreement(volpath, test::meanOf(fourContinuations), "control variate, four continuations");
         s.printpt.controlVariate = false;
         RenderResult without = render(scene, sensor, s);
-        auto summedVariance = [&](const RenderResult& r, int c) {
-            double v = 0;
-            for (size_t p = 0; p < sensor.pixelCount(); ++p) v += std::pow(double(r.film.standardError(p, c)), 2);
-            return v;
-        };
         for (int c = 0; c < 3; ++c) {
-            const double vWith = summedVariance(with, c), vHalf = summedVariance(halfSpaces, c),
-                         vWithout = summedVariance(without, c);
+            const double vWith = summedVariance(with, sensor, c), vHalf = summedVariance(halfSpaces, sensor, c),
+                         vWithout = summedVariance(without, sensor, c);
             // Half-spaces only: the dense blue channel falls by 3x or more
             // (measured 5.4x); red and green, whose diffusion lengths (1.8,
             // 1.2 mm) this small block hardly holds away from its edges, must
@@ -219,7 +224,8 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
             // more against half-spaces only (measured red 2.4x, green 3.3x,
             // blue 5.3x).
             EXPECT_LT(vWith * 1.5, vHalf) << "channel " << c;
-            EXPECT_LT(summedVariance(fourContinuations, c), summedVariance(oneContinuation, c)) << "channel " << c;
+            EXPECT_LT(summedVariance(fourContinuations, sensor, c), summedVariance(oneContinuation, sensor, c))
+                << "channel " << c;
         }
     }
 }
@@ -239,10 +245,7 @@ TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     });
     Scene scene = synthetic::sceneOf(synthetic::sphereMesh(centre, radius_mm, 96), std::move(grid), t, 1.5f);
     const LabelGrid& g = scene.medium->grid();
-    std::vector<SurfaceVoxel> some;  // every 3rd surface voxel
-    for (const SurfaceVoxel& v : g.surfaceVoxels())
-        if ((v.voxel.x + v.voxel.y + v.voxel.z) % 3 == 0) some.push_back(v);
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), some);
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 3));
     RenderSettings reference;
     reference.spp = 6;
     reference.seed = 41;
@@ -259,14 +262,9 @@ TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     s.printpt.controlCurved = false;
     RenderResult flatOnly = render(scene, sensor, s);
     for (int c = 0; c < 2; ++c) {
-        double vCurved = 0, vFlat = 0;
-        for (size_t p = 0; p < sensor.pixelCount(); ++p) {
-            vCurved += std::pow(double(curved.film.standardError(p, c)), 2);
-            vFlat += std::pow(double(flatOnly.film.standardError(p, c)), 2);
-        }
         // Summed over about 2,400 pixels the variances are known to a few
         // per cent; measured red 0.68, green 0.45 of flat controls only.
-        EXPECT_LT(vCurved * 1.2, vFlat) << "channel " << c;
+        EXPECT_LT(summedVariance(curved, sensor, c) * 1.2, summedVariance(flatOnly, sensor, c)) << "channel " << c;
     }
 }
 
