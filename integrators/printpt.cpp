@@ -105,8 +105,6 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     // The walk is compiled once per combination of the switches it tests
     // in its loop; the scene picks one here and the loop pays for no branch.
     options_.nee = options_.nee && scene_.medium->hasSurfaceFields();
-    Vec3f voxel = scene_.medium->frame().voxelSize_mm;
-    minBrickEdge_mm_ = MajorantGrid::kBrickSize * std::min(voxel.x, std::min(voxel.y, voxel.z));
     walkSingle_ = selectWalk<SingleChannelPath>();
     const size_t controls = controlIndex(3, 0, 0);
     controlMean_.reset(new std::atomic<float>[controls]);
@@ -249,14 +247,10 @@ bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
 
 float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
     const LabelMedium& medium = *scene_.medium;
-    Vec3i voxel = medium.voxelAt(p);
-    if (!medium.frame().contains(voxel)) return 0.0f;
-    const MajorantGrid& maj = medium.majorants();
-    Vec3i brick = MajorantGrid::brickOf(voxel);
-    int sole = maj.soleLabel(brick), reach = maj.uniformReach(brick);
-    if (sole < 0 || reach == 0) return 0.0f;
-    label = Label(sole);
-    return std::min(float(reach) * minBrickEdge_mm_, scene_.clearance->at(p));
+    const UniformRegions::Cell cell = medium.uniformRegions().at(medium.voxelAt(p));
+    if (cell.radius_mm <= 0.0f) return 0.0f;
+    label = Label(cell.label);
+    return std::min(cell.radius_mm, scene_.clearance->at(p));
 }
 
 template <class Path>

@@ -196,7 +196,6 @@ private:
     WalkFunction<SingleChannelPath> walkSingle_;
     WalkFunction<HeroPath> walkHero_;
     WalkFunction<SpectralPath> walkSpectral_;
-    float minBrickEdge_mm_ = 0;
     // Light leaving the object straight from x towards the nearest surface,
     // MIS-weighted against phase sampling, per unit environment radiance.
     // Sets the lobe for later weights.

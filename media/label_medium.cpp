@@ -9,14 +9,16 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
     : grid_(std::move(grid)), materials_(std::move(materials)) {
     for (int c = 0; c < 3; ++c) luts_[c] = ChannelLut::build(materials_, grid_.voidLabel(), c);
     majorants_ = MajorantGrid(grid_, luts_);
+    uniform_ = UniformRegions(grid_);
     scale_ = grid_.frame().worldToCellScale();
     offset_ = grid_.frame().worldToCellOffset();
 }
 
 LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed)
     : grid_(std::move(grid)), materials_(previous.materials_), luts_(previous.luts_), majorants_(previous.majorants_),
-      fields_(previous.fields_) {
+      uniform_(previous.uniform_), fields_(previous.fields_) {
     majorants_.update(grid_, luts_, changed);
+    uniform_.update(grid_, changed);
     scale_ = grid_.frame().worldToCellScale();
     offset_ = grid_.frame().worldToCellOffset();
 }

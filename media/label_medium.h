@@ -11,6 +11,7 @@
 #include "media/majorant_grid.h"
 #include "media/materials.h"
 #include "media/trackers.h"
+#include "media/uniform_regions.h"
 #include "media/voxel_fields.h"
 
 namespace pl {
@@ -19,13 +20,16 @@ class LabelMedium {
 public:
     LabelMedium(LabelGrid grid, MaterialTable materials);
     // `grid` is `previous`'s grid with the `changed` voxels relabelled: only
-    // their majorant bricks are recomputed (same result as a full build).
+    // their majorant bricks and uniform cells are recomputed (same result as
+    // a full build).
     LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed);
 
     const LabelGrid& grid() const { return grid_; }
     const GridFrame& frame() const { return grid_.frame(); }
     const MaterialTable& materials() const { return materials_; }
     const MajorantGrid& majorants() const { return majorants_; }
+    // Where the grid is one material, and how far (printpt's ball walks).
+    const UniformRegions& uniformRegions() const { return uniform_; }
     const ChannelLut& lut(int channel) const { return luts_[channel]; }
     const std::array<ChannelLut, 3>& luts() const { return luts_; }
     // Distance and normal fields of a prepared grid (optional; next-event
@@ -76,6 +80,7 @@ private:
     MaterialTable materials_;
     std::array<ChannelLut, 3> luts_;
     MajorantGrid majorants_;
+    UniformRegions uniform_;
     Vec3f scale_, offset_;
     std::shared_ptr<const VoxelFields> fields_;
 };

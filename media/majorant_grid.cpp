@@ -63,7 +63,6 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
                 for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], b[i].maxSigmaT[c]);
             }
     bricks_ = std::move(b);
-    computeUniformReach();
 }
 
 void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts,
@@ -95,50 +94,6 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
     globalMax_ = {0, 0, 0};
     for (const Bounds& x : bricks_)
         for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], x.maxSigmaT[c]);
-    computeUniformReach();
-}
-
-void MajorantGrid::computeUniformReach() {
-    // Chessboard distance transform over the bricks (two raster passes with
-    // the 26-neighbourhood are exact for the Chebyshev metric): the distance
-    // from each brick to the nearest brick that is mixed or holds another
-    // label, counting the outside of the frame as different; minus one.
-    const Vec3i r{brickMax_.x - brickMin_.x, brickMax_.y - brickMin_.y, brickMax_.z - brickMin_.z};
-    reach_.assign(bricks_.size(), 0);
-    if (bricks_.empty()) return;
-    constexpr int kFar = 255;
-    std::vector<uint8_t> d(bricks_.size());
-    auto idx = [&](int x, int y, int z) { return (size_t(z) * r.y + y) * r.x + x; };
-    for (size_t i = 0; i < d.size(); ++i) d[i] = bricks_[i].soleLabel >= 0 ? kFar : 0;
-    auto pass = [&](int sign) {
-        int z0 = sign > 0 ? 0 : r.z - 1, y0 = sign > 0 ? 0 : r.y - 1, x0 = sign > 0 ? 0 : r.x - 1;
-        for (int z = z0; z >= 0 && z < r.z; z += sign)
-            for (int y = y0; y >= 0 && y < r.y; y += sign)
-                for (int x = x0; x >= 0 && x < r.x; x += sign) {
-                    size_t i = idx(x, y, z);
-                    if (d[i] == 0) continue;
-                    int best = d[i];
-                    int label = bricks_[i].soleLabel;
-                    // Neighbours already visited in this pass (half of the 26).
-                    for (int dz = -1; dz <= 0; ++dz)
-                        for (int dy = -1; dy <= 1; ++dy)
-                            for (int dx = -1; dx <= 1; ++dx) {
-                                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-                                int nx = x + sign * dx, ny = y + sign * dy, nz = z + sign * dz;
-                                int nd;
-                                if (nx < 0 || ny < 0 || nz < 0 || nx >= r.x || ny >= r.y || nz >= r.z) nd = 0;
-                                else {
-                                    size_t j = idx(nx, ny, nz);
-                                    nd = bricks_[j].soleLabel == label ? d[j] : 0;
-                                }
-                                best = std::min(best, nd + 1);
-                            }
-                    d[i] = uint8_t(best);
-                }
-    };
-    pass(+1);
-    pass(-1);
-    for (size_t i = 0; i < d.size(); ++i) reach_[i] = d[i] > 0 ? uint8_t(d[i] - 1) : 0;
 }
 
 }  // namespace pl

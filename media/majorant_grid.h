@@ -20,7 +20,7 @@ public:
     MajorantGrid() = default;
     MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts);
     // After relabelling `changed` voxels of `grid`: recomputes only their
-    // bricks (and the global maximum and uniform reach), with the result of
+    // bricks (and the global maximum), with the result of
     // a full construction.
     void update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts, const std::vector<Vec3i>& changed);
 
@@ -46,11 +46,6 @@ public:
                             b.y < brickMax_.y && b.z < brickMax_.z;
         return inside ? solidLabel(b) : kOnlyVoid;
     }
-    // How many bricks around this one (Chebyshev distance) hold only its
-    // label: 0 for a mixed brick or one next to another label or the frame's
-    // edge. A ball around a point of the brick with radius up to
-    // uniformReach x the smallest brick edge holds only that label.
-    int uniformReach(const Vec3i& brick) const { return reach_[brickIndex(brick)]; }
     // The largest sigma_t anywhere, per channel.
     float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
 
@@ -76,10 +71,8 @@ private:
         }
     };
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
-    void computeUniformReach();
     Vec3i brickMin_, brickMax_;
     std::vector<Bounds> bricks_;
-    std::vector<uint8_t> reach_;
     RGB globalMax_{0, 0, 0};
 };
 

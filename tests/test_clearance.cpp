@@ -1,8 +1,7 @@
 // The surface clearance is a lower bound of the distance to the boundary
 // everywhere in the frame (else printpt would miss boundary crossings), its
 // upper bound one where known (printpt's ball tests trust both), and
-// deep inside it is large enough to skip queries. The bricks' uniform reach
-// (how far around a brick only its label lies) matches brute force.
+// deep inside it is large enough to skip queries.
 #include <gtest/gtest.h>
 
 #include "core/rng.h"
@@ -53,48 +52,6 @@ TEST(SurfaceClearance, IsALowerBoundOfTheDistanceToTheBoundary) {
     EXPECT_EQ(clearance.at(hi + Vec3f(0, 0, 0.01f)), 0.0f);
 }
 
-TEST(MajorantGrid, UniformReachMatchesBruteForce) {
-    // White with a magenta slab, scattered black voxels and a frame that is
-    // not a multiple of the brick size.
-    const Vec3i res{150, 97, 121};
-    LabelGrid grid = test::boxGrid(res, {0.05f, 0.05f, 0.05f}, [](const Vec3i& v) {
-        if (v.x >= 100 && v.x < 120) return Label(1);
-        uint32_t h = uint32_t(v.x) * 73856093u ^ uint32_t(v.y) * 19349663u ^ uint32_t(v.z) * 83492791u;
-        return Label(h % 100000 == 0 ? 3 : 4);
-    });
-    std::array<ChannelLut, 3> luts;
-    for (ChannelLut& lut : luts)
-        for (int l = 0; l < 256; ++l) lut.sigmaT_perMm[l] = float(l + 1);
-    MajorantGrid maj(grid, luts);
-    const Vec3i lo = maj.brickMin(), hi = maj.brickMax();
-    auto outside = [&](const Vec3i& b) {
-        return b.x < lo.x || b.y < lo.y || b.z < lo.z || b.x >= hi.x || b.y >= hi.y || b.z >= hi.z;
-    };
-    int deep = 0;
-    for (int z = lo.z; z < hi.z; ++z)
-        for (int y = lo.y; y < hi.y; ++y)
-            for (int x = lo.x; x < hi.x; ++x) {
-                int sole = maj.soleLabel({x, y, z});
-                int expected = 0;
-                if (sole >= 0) {
-                    // Grow a cube of bricks until it meets another label or the outside.
-                    for (int k = 1;; ++k) {
-                        bool differs = false;
-                        for (int dz = -k; dz <= k && !differs; ++dz)
-                            for (int dy = -k; dy <= k && !differs; ++dy)
-                                for (int dx = -k; dx <= k && !differs; ++dx) {
-                                    Vec3i n{x + dx, y + dy, z + dz};
-                                    differs = outside(n) || maj.soleLabel(n) != sole;
-                                }
-                        if (differs) { expected = k - 1; break; }
-                    }
-                }
-                ASSERT_EQ(maj.uniformReach({x, y, z}), expected) << x << "," << y << "," << z;
-                deep += expected >= 2;
-            }
-    EXPECT_GT(deep, 10);  // the test must see bricks with a real reach
-}
-
 // The solid label of a brick is its one label other than void, whatever the
 // void voxels around it (the skin between the mesh and the voxels).
 TEST(MajorantGrid, SolidLabelIgnoresVoid) {
@@ -136,7 +93,7 @@ namespace pl {
 namespace {
 
 // Updating the bricks of relabelled voxels gives what a full build of the
-// relabelled grid gives: bounds, sole labels, uniform reach, global maximum.
+// relabelled grid gives: bounds, sole labels, global maximum.
 TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
     const Vec3i res{45, 37, 29};  // not a multiple of the brick size
     LabelGrid grid = test::boxGrid(res, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(v.x < 20 ? 4 : 1); });
@@ -175,7 +132,6 @@ TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
                 }
                 EXPECT_EQ(maj.soleLabel(b), full.soleLabel(b)) << bx << " " << by << " " << bz;
                 EXPECT_EQ(maj.solidLabel(b), full.solidLabel(b)) << bx << " " << by << " " << bz;
-                EXPECT_EQ(maj.uniformReach(b), full.uniformReach(b));
             }
     for (int c = 0; c < 3; ++c) EXPECT_EQ(maj.globalMaxSigmaT(c), full.globalMaxSigmaT(c));
 }
