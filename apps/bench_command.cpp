@@ -26,6 +26,7 @@
 
 #include "apps/arguments.h"
 #include "core/progress.h"
+#include "integrators/half_space_walk.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
@@ -301,6 +302,9 @@ int benchCommand(const std::vector<std::string>& argv) {
     // relative MSE (one denominator for all renders).
     std::vector<std::pair<Film, RGB>> selfFilms;
     for (const std::string& name : names) {
+        // Each configuration estimates its control means itself, as a render
+        // of it alone would (they are kept for the process otherwise).
+        forgetHalfSpaceMeans();
         RenderSettings s = chosen[name];
         s.spp = 1;
         s.seed = 1;

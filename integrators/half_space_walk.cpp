@@ -158,25 +158,35 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
     return {mean, std::sqrt(variance / n)};
 }
 
+namespace {
+
+using MeanKey = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
+std::mutex meansMutex;
+std::map<MeanKey, HalfSpaceMean> knownMeans;
+
+}  // namespace
+
+void forgetHalfSpaceMeans() {
+    std::lock_guard<std::mutex> lock(meansMutex);
+    knownMeans.clear();
+}
+
 HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                             uint64_t seed) {
-    using Key = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
-    static std::mutex mutex;
-    static std::map<Key, HalfSpaceMean> known;
     const float side_mm = hs.hasSide ? dot(hs.sideOrigin - hs.origin, hs.sideNormal) : -1.0f;
     const float kappaS = hs.curved ? hs.kappaS_perMm : -1.0f, kappaT = hs.curved ? hs.kappaT_perMm : -1.0f;
-    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
+    const MeanKey key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
                   roulette.cap, ballMinMfp, walks, seed};
     {
-        std::lock_guard<std::mutex> lock(mutex);
-        if (auto it = known.find(key); it != known.end()) return it->second;
+        std::lock_guard<std::mutex> lock(meansMutex);
+        if (auto it = knownMeans.find(key); it != knownMeans.end()) return it->second;
     }
     // Estimated outside the lock, so that threads asking for different
     // means estimate them side by side; two asking for the same one get
     // the same bits (the estimate depends only on its key).
     HalfSpaceMean m = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);
-    std::lock_guard<std::mutex> lock(mutex);
-    return known.emplace(key, m).first->second;
+    std::lock_guard<std::mutex> lock(meansMutex);
+    return knownMeans.emplace(key, m).first->second;
 }
 
 }  // namespace pl

@@ -144,6 +144,9 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
 // its integrator once per round).
 HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                             uint64_t seed);
+// Empties that store (the bench, so that each configuration pays for its
+// own means, as a render of it alone would).
+void forgetHalfSpaceMeans();
 
 // The rotation taking unit vector a to unit vector b (a != -b), applied to v.
 inline Vec3f rotateAtoB(const Vec3f& a, const Vec3f& b, const Vec3f& v) {
