@@ -1,6 +1,7 @@
 #include "integrators/half_space_walk.h"
 
 #include <algorithm>
+#include <future>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -162,7 +163,9 @@ namespace {
 
 using MeanKey = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
 std::mutex meansMutex;
-std::map<MeanKey, HalfSpaceMean> knownMeans;
+// Each mean once: the first thread to ask estimates it, later ones wait for
+// its result instead of estimating the same walks again.
+std::map<MeanKey, std::shared_future<HalfSpaceMean>> knownMeans;
 
 }  // namespace
 
@@ -177,16 +180,26 @@ HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, f
     const float kappaS = hs.curved ? hs.kappaS_perMm : -1.0f, kappaT = hs.curved ? hs.kappaT_perMm : -1.0f;
     const MeanKey key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
                   roulette.cap, ballMinMfp, walks, seed};
+    std::promise<HalfSpaceMean> promise;
+    std::shared_future<HalfSpaceMean> result;
+    bool first = false;
     {
         std::lock_guard<std::mutex> lock(meansMutex);
-        if (auto it = knownMeans.find(key); it != knownMeans.end()) return it->second;
+        auto [it, inserted] = knownMeans.try_emplace(key);
+        if (inserted) it->second = promise.get_future().share();
+        result = it->second;
+        first = inserted;
     }
     // Estimated outside the lock, so that threads asking for different
-    // means estimate them side by side; two asking for the same one get
-    // the same bits (the estimate depends only on its key).
-    HalfSpaceMean m = estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed);
-    std::lock_guard<std::mutex> lock(meansMutex);
-    return knownMeans.emplace(key, m).first->second;
+    // means estimate them side by side.
+    if (first) {
+        try {
+            promise.set_value(estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed));
+        } catch (...) {
+            promise.set_exception(std::current_exception());
+        }
+    }
+    return result.get();
 }
 
 }  // namespace pl
