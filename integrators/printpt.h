@@ -15,8 +15,8 @@
 //    albedo as a weight until the throughput falls below it; collisions in
 //    absorbing resin use rrThresholdAbsorbing instead;
 //  - ball walks: deep inside one material (a ball around the walk's
-//    position that the surface clearance and the bricks' uniform reach show
-//    to hold one label only) collisions are sampled in a plain homogeneous
+//    position that the surface clearance and the one-label cells
+//    (media/uniform_regions.h) show to hold one label only) collisions are sampled in a plain homogeneous
 //    loop, without grid lookups or boundary queries, until a free flight
 //    would leave the ball; tracking restarts where it crosses the sphere
 //    (exact: free flights are memoryless);
