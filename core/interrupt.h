@@ -1,6 +1,7 @@
 // Ctrl-C (SIGINT) and SIGTERM: long jobs stop at the next sample, write
-// nothing under the output name and exit with 130. A second signal ends the
-// process at once.
+// nothing under the output name and exit with 130. A second signal (more
+// than 0.2 s after the first: tools like timeout(1) deliver one request
+// twice) ends the process at once.
 #pragma once
 
 #include <stdexcept>

@@ -120,6 +120,21 @@ TEST(Cli, CtrlCStopsPromptlyWritesNothingAndExits130) {
     EXPECT_FALSE(s.anyOutput());
 }
 
+// One request delivered twice at once (timeout(1) signals the process and
+// then its group; here three times) still stops cleanly, with the message.
+TEST(Cli, OneInterruptDeliveredTwiceStillStopsCleanly) {
+    TestScene s("interrupt_twice");
+    s.scene["render"]["spp"] = 1000000;
+    const std::string render = std::string(PRINTLIGHT_EXE) + " render " + s.write().string() + " -o " +
+                               s.out().string() + " >/dev/null 2>" + (s.dir / "stderr.txt").string();
+    int status = std::system(("bash -c '" + render + " & p=$!; sleep 1; kill -INT $p; kill -INT $p; kill -INT $p; wait $p'").c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    EXPECT_NE(test::readText(s.dir / "stderr.txt").find("interrupted"), std::string::npos)
+        << test::readText(s.dir / "stderr.txt");
+    EXPECT_FALSE(s.anyOutput());
+}
+
 TEST(Cli, MalformedSceneJson) {
     TestScene s("malformed");
     s.write();
