@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/parallel_for.h>
+
 namespace pl {
 
 namespace {
@@ -74,6 +76,7 @@ int UniformRegions::countCell(const LabelGrid& grid, const Vec3i& c) const {
 }
 
 void UniformRegions::update(const LabelGrid& grid, const std::vector<Vec3i>& changed) {
+    bool cellsChanged = false;
     for (const Vec3i& v : changed) {
         Vec3i c;
         bool inside = true;
@@ -82,45 +85,79 @@ void UniformRegions::update(const LabelGrid& grid, const std::vector<Vec3i>& cha
             inside = inside && r >= 0 && r < resolution_[a];
             c[a] = r >> kCellLog2;
         }
-        if (inside) label_[index(c)] = int16_t(countCell(grid, c));
+        if (!inside) continue;
+        const int16_t l = int16_t(countCell(grid, c));
+        cellsChanged = cellsChanged || l != label_[index(c)];
+        label_[index(c)] = l;
     }
-    computeRadii(grid.voidLabel());
+    // The radii are a function of the interior cells alone: relabelling the
+    // voxels of a halftone's mixed cells, or cells next to them, changes none.
+    if (cellsChanged) computeRadii(grid.voidLabel());
+}
+
+std::vector<int16_t> UniformRegions::interiorCells() const {
+    // Erosion by the 3x3x3 box, one axis at a time: after the pass along
+    // axis a, same[i] is the cell's label if the cells around it along the
+    // axes done so far (and inside the frame) all hold it, else kMixed.
+    std::vector<int16_t> same(label_), next(label_.size());
+    for (int a = 0; a < 3; ++a) {
+        const size_t stride = a == 0 ? 1 : a == 1 ? size_t(cells_.x) : size_t(cells_.x) * cells_.y;
+        size_t i = 0;
+        for (int z = 0; z < cells_.z; ++z)
+            for (int y = 0; y < cells_.y; ++y)
+                for (int x = 0; x < cells_.x; ++x, ++i) {
+                    const int c = a == 0 ? x : a == 1 ? y : z;
+                    const bool edge = c == 0 || c == cells_[a] - 1;
+                    next[i] = !edge && same[i - stride] == same[i] && same[i + stride] == same[i] ? same[i]
+                                                                                                 : int16_t(kMixed);
+                }
+        std::swap(same, next);
+    }
+    return same;
 }
 
 void UniformRegions::computeRadii(Label voidLabel) {
-    // Per label: the squared gap to the nearest cell not of that label is a
-    // sum over axes of per-axis terms, so three passes of one-dimensional
-    // minima give it exactly (Saito and Toriwaki 1994). Void needs none:
-    // nothing walks balls there.
+    // The gap from cell b to the nearest cell o not of b's label,
+    // sum over axes of (max(0, |b - o| - 1) x cell edge)^2, equals the
+    // distance between cell centres from b to the nearest cell that is not
+    // interior (all 26 neighbours of its label): growing the other cells by
+    // one in every direction is what the "- 1" does. So the radii depend on
+    // the interior cells alone (updates that leave them as they were change
+    // nothing, bit for bit), and a squared centre distance is a sum over
+    // axes: three passes of one-dimensional minima give it exactly (Saito
+    // and Toriwaki 1994). Cells that are not interior have radius 0.
+    std::vector<int16_t> interior = interiorCells();
+    if (interior == interior_ && radius_mm_.size() == label_.size()) return;
+    interior_ = std::move(interior);
     radius_mm_.assign(label_.size(), 0.0f);
     if (label_.empty()) return;
     constexpr float inf = std::numeric_limits<float>::infinity();
     Vec3f cell_mm;
     for (int a = 0; a < 3; ++a) cell_mm[a] = float(kCellSize) * voxel_mm_[a];
-    // Squared gap along axis a between cells k apart (adjacent cells touch).
-    auto gapSq = [&](int a, int k) {
-        const float g = float(std::max(0, k - 1)) * cell_mm[a];
-        return g * g;
-    };
-    // Squared gap from cell k along axis a to the outside of the frame.
+    // Squared gap from cell k along axis a to the outside of the frame (the
+    // last cell may be cut by the frame).
     auto edgeGapSq = [&](int a, int k) {
         const int first = k << kCellLog2, end = first + kCellSize;
         const float g = float(std::max(0, std::min(first, resolution_[a] - end))) * voxel_mm_[a];
         return g * g;
     };
-    std::vector<int> labels;
-    for (int16_t l : label_)
+    std::vector<int> labels;  // void aside: nothing walks balls there
+    for (int16_t l : interior_)
         if (l >= 0 && l != int(voidLabel) && std::find(labels.begin(), labels.end(), int(l)) == labels.end())
             labels.push_back(l);
-    std::vector<float> d(label_.size()), line;
+    const float maxSq = kMaxRadius_mm * kMaxRadius_mm;
+    std::vector<float> d(label_.size());
     for (int label : labels) {
-        for (size_t i = 0; i < d.size(); ++i) d[i] = label_[i] == label ? inf : 0.0f;
+        for (size_t i = 0; i < d.size(); ++i) d[i] = interior_[i] == label ? inf : 0.0f;
         for (int a = 0; a < 3; ++a) {
-            const int n = cells_[a], b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-            // Stride of axis a, and the start of each line of cells along it.
+            // Lines along axis a; neighbouring lines (along b1, the faster of
+            // the other two axes) lie next to each other in memory.
+            const int n = cells_[a], b1 = a == 0 ? 1 : 0, b2 = a == 2 ? 1 : 2;
             const size_t stride = a == 0 ? 1 : a == 1 ? size_t(cells_.x) : size_t(cells_.x) * cells_.y;
-            line.resize(size_t(n));
-            for (int v = 0; v < cells_[b2]; ++v)
+            // Lines are independent: planes of them side by side (the same
+            // result for any thread count).
+            tbb::parallel_for(0, cells_[b2], [&](int v) {
+                std::vector<float> line(static_cast<size_t>(n));
                 for (int u = 0; u < cells_[b1]; ++u) {
                     Vec3i c;
                     c[a] = 0;
@@ -129,10 +166,10 @@ void UniformRegions::computeRadii(Label voidLabel) {
                     const size_t start = index(c);
                     for (int k = 0; k < n; ++k) line[size_t(k)] = d[start + size_t(k) * stride];
                     for (int k = 0; k < n; ++k) {
-                        float best = std::min(line[size_t(k)], edgeGapSq(a, k));
-                        // Outwards until the gap alone is no better.
+                        float best = std::min({line[size_t(k)], edgeGapSq(a, k), maxSq});
+                        // Outwards until the distance alone is no better.
                         for (int j = 1; j < n; ++j) {
-                            const float g = gapSq(a, j);
+                            const float g = float(j) * cell_mm[a] * (float(j) * cell_mm[a]);
                             if (g >= best) break;
                             if (k - j >= 0) best = std::min(best, g + line[size_t(k - j)]);
                             if (k + j < n) best = std::min(best, g + line[size_t(k + j)]);
@@ -140,9 +177,10 @@ void UniformRegions::computeRadii(Label voidLabel) {
                         d[start + size_t(k) * stride] = best;
                     }
                 }
+            });
         }
         for (size_t i = 0; i < d.size(); ++i)
-            if (label_[i] == label) radius_mm_[i] = std::sqrt(d[i]);
+            if (interior_[i] == label) radius_mm_[i] = std::sqrt(d[i]);
     }
 }
 

@@ -3,8 +3,8 @@
 // around any point of the cell holds only that label. printpt walks such
 // balls without grid lookups (media/ball_walk.h). The radius is the gap
 // between the cell's box and the nearest cell that is mixed or holds another
-// label, or the frame's edge: exact as a lower bound, in mm with the voxels'
-// own edges per axis. Cells are finer than the majorant bricks so that the
+// label, or the frame's edge (at most kMaxRadius_mm): exact as a lower
+// bound, in mm with the voxels' own edges per axis. Cells are finer than the majorant bricks so that the
 // ring of mixed cells at the surface (resin and the void skin) costs little
 // depth.
 #pragma once
@@ -21,6 +21,10 @@ public:
     static constexpr int kCellLog2 = 2;
     static constexpr int kCellSize = 1 << kCellLog2;
     static constexpr int kMixed = -1;
+    // Radii stop here: a ball walk of 12 mean free paths of red in white
+    // resin already takes ~150 collisions, and the transform's cost grows
+    // with the radius (it runs on every update of the prediction API).
+    static constexpr float kMaxRadius_mm = 2.0f;
 
     UniformRegions() = default;
     explicit UniformRegions(const LabelGrid& grid);
@@ -50,10 +54,15 @@ private:
     size_t index(const Vec3i& c) const { return (size_t(c.z) * cells_.y + c.y) * cells_.x + c.x; }
     // The label of cell c from the grid's voxels, one by one.
     int countCell(const LabelGrid& grid, const Vec3i& c) const;
+    // Per cell its label if the cell and its 26 neighbours (inside the
+    // frame) all hold it, else kMixed.
+    std::vector<int16_t> interiorCells() const;
+    // The radii from the interior cells (nothing to do if they are as when
+    // last computed).
     void computeRadii(Label voidLabel);
     Vec3i indexMin_{0, 0, 0}, resolution_{0, 0, 0}, cells_{0, 0, 0};
     Vec3f voxel_mm_{1, 1, 1};
-    std::vector<int16_t> label_;
+    std::vector<int16_t> label_, interior_;
     std::vector<float> radius_mm_;
 };
 
