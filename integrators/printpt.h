@@ -16,10 +16,10 @@
 //    absorbing resin use rrThresholdAbsorbing instead;
 //  - ball walks: deep inside one material (a ball around the walk's
 //    position that the surface clearance and the one-label cells
-//    (media/uniform_regions.h) show to hold one label only) collisions are sampled in a plain homogeneous
-//    loop, without grid lookups or boundary queries, until a free flight
-//    would leave the ball; tracking restarts where it crosses the sphere
-//    (exact: free flights are memoryless);
+//    (media/uniform_regions.h) show to hold one label only) collisions are
+//    sampled in a plain homogeneous loop, without grid lookups or boundary
+//    queries, until a free flight would leave the ball; tracking restarts
+//    where it crosses the sphere (exact: free flights are memoryless);
 //  - branching: k independent walks from the entry point, weight 1/k each;
 //  - control variate (single channel, no NEE): each branch's walk shares
 //    its random numbers with a walk in the half-space of the entry voxel's

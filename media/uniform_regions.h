@@ -4,9 +4,9 @@
 // balls without grid lookups (media/ball_walk.h). The radius is the gap
 // between the cell's box and the nearest cell that is mixed or holds another
 // label, or the frame's edge (at most kMaxRadius_mm): exact as a lower
-// bound, in mm with the voxels' own edges per axis. Cells are finer than the majorant bricks so that the
-// ring of mixed cells at the surface (resin and the void skin) costs little
-// depth.
+// bound, in mm with the voxels' own edges per axis. Cells are finer than the
+// majorant bricks so that the ring of mixed cells at the surface (resin and
+// the void skin) costs little depth.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +29,8 @@ public:
     UniformRegions() = default;
     explicit UniformRegions(const LabelGrid& grid);
     // After relabelling `changed` voxels of `grid`: their cells are recounted
-    // and the radii recomputed (the result of a full construction).
+    // and the radii recomputed where the interior cells changed (the result
+    // of a full construction).
     void update(const LabelGrid& grid, const std::vector<Vec3i>& changed);
 
     // The one label of the voxel's cell (kMixed if several or outside the
