@@ -84,7 +84,8 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
     float controlMean = 0.0f;
     bool controlled = false;
     if constexpr (std::is_same_v<Path, SingleChannelPath>)
-        controlled = options_.controlVariate && !options_.nee && controlFor(inside, path, medium, control, controlMean);
+        controlled = options_.controlVariate && !options_.nee &&
+                     controlForEntry(inside, path, medium, control, controlMean);
     for (int b = 0; b < k; ++b) {
         // Each walk starts at throughput 1 (Russian roulette is relative to it).
         typename Path::Value Lb{};
@@ -102,6 +103,8 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
 }
 
 PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {
+    static std::atomic<uint64_t> instances{0};
+    id_ = ++instances;
     // The walk is compiled once per combination of the switches it tests
     // in its loop; the scene picks one here and the loop pays for no branch.
     options_.nee = options_.nee && scene_.medium->hasSurfaceFields();
@@ -371,6 +374,35 @@ std::optional<PrintPt::Edge> PrintPt::findEdge(HalfSpace& control, float reach_m
 
 int PrintPt::solidLabelAt(const Point3f& p) const {
     return scene_.medium->majorants().solidLabelAt(scene_.medium->voxelAt(p));
+}
+
+bool PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
+                              HalfSpace& control, float& mean) const {
+    // The surface-voxel sensor sends the same ray for every sample of a
+    // pixel, and a thread renders a pixel's samples one after another: the
+    // decision (probes, fit, mean), a function of the entry and the channel
+    // alone, is kept for the last entry each thread saw.
+    struct Last {
+        uint64_t integrator = 0;  // id_ of the integrator that made it; 0: none
+        int channel = -1;
+        Ray inside;
+        bool controlled = false;
+        HalfSpace control;
+        float mean = 0.0f;
+    };
+    thread_local Last last;
+    auto equal = [](const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+    const bool same = last.integrator == id_ && last.channel == path.channel && equal(last.inside.o, inside.o) &&
+                      equal(last.inside.d, inside.d);
+    if (!same) {
+        last.controlled = controlFor(inside, path, medium, last.control, last.mean);
+        last.integrator = id_;
+        last.channel = path.channel;
+        last.inside = inside;
+    }
+    control = last.control;
+    mean = last.mean;
+    return last.controlled;
 }
 
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,

@@ -146,6 +146,10 @@ private:
     // mean; false where the entry material has none.
     bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                     HalfSpace& control, float& mean) const;
+    // The same, remembered per thread for the last entry and channel (the
+    // samples of a pixel repeat them).
+    bool controlForEntry(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
+                         HalfSpace& control, float& mean) const;
     // The side face of a right-angled edge within reach_mm of the control's
     // entry, set as its second plane at the tabulated distance nearest the
     // edge's; none (and the control left a half-space) where there is no
@@ -209,6 +213,7 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
+    uint64_t id_ = 0;  // this integrator among all made in the process (controlForEntry)
     // Per channel, label and shape (ControlShape::index): the control's
     // mean, estimated at first use, and its standard error.
     static constexpr float kControlUnknown = -1.0f;

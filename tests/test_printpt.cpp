@@ -235,6 +235,49 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
 // ball, where the flat probes fail in red and green, printpt must still
 // agree with volpath, and the curved controls must take variance away in
 // those channels.
+// The control's decision is kept per thread for the last entry (the
+// samples of a pixel repeat it): rendering the samples pixel by pixel
+// (channel by channel within) or sample by sample (every call a new entry)
+// gives the same bits.
+TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
+    MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
+    const float radius_mm = 2.4f, voxel_mm = 0.1f;
+    const Point3f centre{2.5f, 2.5f, 2.5f};
+    LabelGrid grid = test::boxGrid({50, 50, 50}, {voxel_mm, voxel_mm, voxel_mm}, [&](const Vec3i& v) {
+        const Point3f c{(v.x + 0.5f) * voxel_mm, (v.y + 0.5f) * voxel_mm, (v.z + 0.5f) * voxel_mm};
+        return length(c - centre) < radius_mm ? Label(4) : test::kTestVoid;
+    });
+    Scene scene = synthetic::sceneOf(synthetic::sphereMesh(centre, radius_mm, 96), std::move(grid), t, 1.5f);
+    SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), everyNthSurfaceVoxel(scene.medium->grid(), 97));
+    PrintPtOptions options;
+    options.controlWalks = 1 << 12;
+    options.controlCurvedThickness = 1.0f;  // curved controls on this small ball, flat ones near its poles
+    constexpr int kSamples = 3;
+    const size_t pixels = sensor.pixelCount();
+    ASSERT_GT(pixels, 20u);
+    auto radiance = [&](const PrintPt& pt, LabelMedium::Sampler& medium, size_t p, int s, int c) {
+        Rng rng = Rng::forPath(5, p, uint64_t(s), uint64_t(c));
+        PathStats stats;
+        return pt.Li(sensor.generateRay(p, 0.5f, 0.5f), c, medium, rng, stats);
+    };
+    std::vector<float> byPixel(pixels * kSamples * 3), bySample(byPixel.size());
+    {
+        PrintPt pt(scene, options);
+        LabelMedium::Sampler medium(*scene.medium);
+        for (size_t p = 0; p < pixels; ++p)
+            for (int c = 0; c < 3; ++c)
+                for (int s = 0; s < kSamples; ++s) byPixel[(p * kSamples + s) * 3 + c] = radiance(pt, medium, p, s, c);
+    }
+    {
+        PrintPt pt(scene, options);  // another integrator: nothing kept from the first counts
+        LabelMedium::Sampler medium(*scene.medium);
+        for (int s = 0; s < kSamples; ++s)
+            for (int c = 0; c < 3; ++c)
+                for (size_t p = 0; p < pixels; ++p) bySample[(p * kSamples + s) * 3 + c] = radiance(pt, medium, p, s, c);
+    }
+    for (size_t i = 0; i < byPixel.size(); ++i) ASSERT_EQ(byPixel[i], bySample[i]) << "sample " << i;
+}
+
 TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
     const float radius_mm = 2.4f, voxel_mm = 0.1f;
