@@ -235,11 +235,8 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
 // ball, where the flat probes fail in red and green, printpt must still
 // agree with volpath, and the curved controls must take variance away in
 // those channels.
-// The control's decision is kept per thread for the last entry (the
-// samples of a pixel repeat it): rendering the samples pixel by pixel
-// (channel by channel within) or sample by sample (every call a new entry)
-// gives the same bits.
-TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
+// A white resin ball, 2.4 mm in radius, on 0.1 mm voxels (curved controls).
+Scene whiteBall() {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
     const float radius_mm = 2.4f, voxel_mm = 0.1f;
     const Point3f centre{2.5f, 2.5f, 2.5f};
@@ -247,7 +244,15 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
         const Point3f c{(v.x + 0.5f) * voxel_mm, (v.y + 0.5f) * voxel_mm, (v.z + 0.5f) * voxel_mm};
         return length(c - centre) < radius_mm ? Label(4) : test::kTestVoid;
     });
-    Scene scene = synthetic::sceneOf(synthetic::sphereMesh(centre, radius_mm, 96), std::move(grid), t, 1.5f);
+    return synthetic::sceneOf(synthetic::sphereMesh(centre, radius_mm, 96), std::move(grid), t, 1.5f);
+}
+
+// The control's decision is kept per thread for the last entry (the
+// samples of a pixel repeat it): rendering the samples pixel by pixel
+// (channel by channel within) or sample by sample (every call a new entry)
+// gives the same bits.
+TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
+    Scene scene = whiteBall();
     SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), everyNthSurfaceVoxel(scene.medium->grid(), 97));
     PrintPtOptions options;
     options.controlWalks = 1 << 12;
@@ -279,14 +284,7 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
 }
 
 TEST(PrintPt, CurvedControlAgreesWithVolpath) {
-    MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
-    const float radius_mm = 2.4f, voxel_mm = 0.1f;
-    const Point3f centre{2.5f, 2.5f, 2.5f};
-    LabelGrid grid = test::boxGrid({50, 50, 50}, {voxel_mm, voxel_mm, voxel_mm}, [&](const Vec3i& v) {
-        const Point3f c{(v.x + 0.5f) * voxel_mm, (v.y + 0.5f) * voxel_mm, (v.z + 0.5f) * voxel_mm};
-        return length(c - centre) < radius_mm ? Label(4) : test::kTestVoid;
-    });
-    Scene scene = synthetic::sceneOf(synthetic::sphereMesh(centre, radius_mm, 96), std::move(grid), t, 1.5f);
+    Scene scene = whiteBall();
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 3));
     RenderSettings reference;
