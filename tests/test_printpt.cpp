@@ -230,11 +230,6 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
     }
 }
 
-// Under a curved surface the control is the region below a paraboloid
-// with tabulated curvatures (integrators/half_space_walk.h): on a white
-// ball, where the flat probes fail in red and green, printpt must still
-// agree with volpath, and the curved controls must take variance away in
-// those channels.
 // A white resin ball, 2.4 mm in radius, on 0.1 mm voxels (curved controls).
 Scene whiteBall() {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
@@ -283,6 +278,11 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     for (size_t i = 0; i < byPixel.size(); ++i) ASSERT_EQ(byPixel[i], bySample[i]) << "sample " << i;
 }
 
+// Under a curved surface the control is the region below a paraboloid
+// with tabulated curvatures (integrators/half_space_walk.h): on a white
+// ball, where the flat probes fail in red and green, printpt must still
+// agree with volpath, and the curved controls must take variance away in
+// those channels.
 TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     Scene scene = whiteBall();
     const LabelGrid& g = scene.medium->grid();
