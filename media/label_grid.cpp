@@ -99,6 +99,45 @@ void LabelGrid::visitRegions(
     }
 }
 
+void LabelGrid::visitBlockLabels(int log2, const Vec3i& origin,
+                                 const std::function<void(const Vec3i&, Label)>& fn) const {
+    if (frame_.voxelCount() == 0) return;
+    const Vec3i lo = frame_.indexMin, hi{frame_.indexMax().x - 1, frame_.indexMax().y - 1, frame_.indexMax().z - 1};
+    auto blockOf = [&](const Vec3i& v) {
+        return Vec3i{(v.x - origin.x) >> log2, (v.y - origin.y) >> log2, (v.z - origin.z) >> log2};
+    };
+    const Vec3i first = blockOf(lo), last = blockOf(hi);
+    const Vec3i count{last.x - first.x + 1, last.y - first.y + 1, last.z - first.z + 1};
+    auto index = [&](const Vec3i& b) {
+        return (size_t(b.z - first.z) * count.y + size_t(b.y - first.y)) * count.x + size_t(b.x - first.x);
+    };
+    // Voxels of the box [from, to] (inclusive) inside block b.
+    auto voxelsIn = [&](const Vec3i& b, const Vec3i& from, const Vec3i& to) {
+        uint64_t n = 1;
+        for (int a = 0; a < 3; ++a) {
+            const int start = origin[a] + (b[a] << log2), end = start + (1 << log2) - 1;
+            n *= uint64_t(std::min(to[a], end) - std::max(from[a], start) + 1);
+        }
+        return n;
+    };
+    std::vector<uint64_t> covered(size_t(count.x) * count.y * count.z, 0);
+    // Stored tiles and voxels, block by block of their box.
+    visitRegions([&](const Vec3i& rlo, const Vec3i& rhi, Label l) {
+        const Vec3i blo = blockOf(rlo), bhi = blockOf(rhi);
+        for (int z = blo.z; z <= bhi.z; ++z)
+            for (int y = blo.y; y <= bhi.y; ++y)
+                for (int x = blo.x; x <= bhi.x; ++x) {
+                    covered[index({x, y, z})] += voxelsIn({x, y, z}, rlo, rhi);
+                    fn({x, y, z}, l);
+                }
+    });
+    // Voxels no stored value covers hold the void label.
+    for (int z = first.z; z <= last.z; ++z)
+        for (int y = first.y; y <= last.y; ++y)
+            for (int x = first.x; x <= last.x; ++x)
+                if (covered[index({x, y, z})] < voxelsIn({x, y, z}, lo, hi)) fn({x, y, z}, voidLabel_);
+}
+
 std::array<uint64_t, 256> LabelGrid::histogram() const {
     std::array<uint64_t, 256> h{};
     uint64_t visited = 0;

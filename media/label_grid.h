@@ -53,6 +53,11 @@ public:
     // Visits every constant region inside the frame: whole tiles once, leaf
     // voxels one by one. Bounds are inclusive voxel coordinates.
     void visitRegions(const std::function<void(const Vec3i& lo, const Vec3i& hi, Label)>& fn) const;
+    // Visits the labels each block of 2^log2 voxels holds inside the frame
+    // (block = (voxel - origin) >> log2), void included where no stored value
+    // covers a voxel: fn(block, label), maybe more than once for a pair.
+    void visitBlockLabels(int log2, const Vec3i& origin,
+                          const std::function<void(const Vec3i& block, Label)>& fn) const;
     // Number of voxels of each label inside the frame.
     std::array<uint64_t, 256> histogram() const;
     // Non-void voxels with a face neighbour that is void or outside the frame,

@@ -4,7 +4,9 @@
 // (the transparent-material problem, Brecka 4.6).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "media/label_grid.h"
@@ -64,10 +66,19 @@ private:
         RGB minSigmaT{0, 0, 0};
         int soleLabel = -1;
         int solidLabel = kOnlyVoid;
-        // Adds label l to the labels seen.
-        void see(int l, Label voidLabel) {
-            soleLabel = soleLabel == kNoLabelYet || soleLabel == l ? l : -1;
-            if (l != int(voidLabel)) solidLabel = solidLabel == kOnlyVoid || solidLabel == l ? l : kSeveralLabels;
+        // Nothing seen yet.
+        static Bounds none() {
+            constexpr float inf = std::numeric_limits<float>::infinity();
+            return {{-inf, -inf, -inf}, {inf, inf, inf}, kNoLabelYet, kOnlyVoid};
+        }
+        // Adds label l (and its sigma_t per channel) to what the brick holds.
+        void include(Label l, const std::array<ChannelLut, 3>& luts, Label voidLabel) {
+            for (int c = 0; c < 3; ++c) {
+                maxSigmaT[c] = std::max(maxSigmaT[c], luts[c].sigmaT_perMm[l]);
+                minSigmaT[c] = std::min(minSigmaT[c], luts[c].sigmaT_perMm[l]);
+            }
+            soleLabel = soleLabel == kNoLabelYet || soleLabel == int(l) ? int(l) : -1;
+            if (l != voidLabel) solidLabel = solidLabel == kOnlyVoid || solidLabel == int(l) ? int(l) : kSeveralLabels;
         }
     };
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }

@@ -27,38 +27,10 @@ UniformRegions::UniformRegions(const LabelGrid& grid) {
     for (int a = 0; a < 3; ++a) cells_[a] = (resolution_[a] + kCellSize - 1) >> kCellLog2;
     const size_t count = f.voxelCount() == 0 ? 0 : size_t(cells_.x) * cells_.y * cells_.z;
     label_.assign(count, kNoLabelYet);
-    std::vector<uint32_t> covered(count, 0);
-    // Stored tiles and voxels, cell by cell of their box.
-    grid.visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
-        Vec3i clo, chi;
-        for (int a = 0; a < 3; ++a) {
-            clo[a] = (lo[a] - indexMin_[a]) >> kCellLog2;
-            chi[a] = (hi[a] - indexMin_[a]) >> kCellLog2;
-        }
-        for (int z = clo.z; z <= chi.z; ++z)
-            for (int y = clo.y; y <= chi.y; ++y)
-                for (int x = clo.x; x <= chi.x; ++x) {
-                    const int c[3] = {x, y, z};
-                    uint32_t n = 1;
-                    for (int a = 0; a < 3; ++a) {
-                        const int first = indexMin_[a] + (c[a] << kCellLog2);
-                        n *= uint32_t(std::min(hi[a], first + kCellSize - 1) - std::max(lo[a], first) + 1);
-                    }
-                    const size_t i = index({x, y, z});
-                    covered[i] += n;
-                    label_[i] = int16_t(see(label_[i], l));
-                }
+    grid.visitBlockLabels(kCellLog2, indexMin_, [&](const Vec3i& cell, Label l) {
+        int16_t& label = label_[index(cell)];
+        label = int16_t(see(label, l));
     });
-    // Voxels no stored value covers hold the void label.
-    for (int z = 0; z < cells_.z; ++z)
-        for (int y = 0; y < cells_.y; ++y)
-            for (int x = 0; x < cells_.x; ++x) {
-                const int c[3] = {x, y, z};
-                uint32_t n = 1;
-                for (int a = 0; a < 3; ++a) n *= uint32_t(std::min(kCellSize, resolution_[a] - (c[a] << kCellLog2)));
-                const size_t i = index({x, y, z});
-                if (covered[i] < n) label_[i] = int16_t(see(label_[i], grid.voidLabel()));
-            }
     computeRadii(grid.voidLabel());
 }
 
