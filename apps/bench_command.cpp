@@ -64,6 +64,12 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
+    // The textbook tracker: one majorant for the whole grid instead of one per brick.
+    for (const char* integrator : {"volpath", "printpt"}) {
+        RenderSettings q = c[integrator];
+        q.majorants = Majorants::Global;
+        c[std::string(integrator) + "-global-majorant"] = q;
+    }
     // Three channels: one pass per channel, or one path for all three.
     for (const char* integrator : {"volpath", "printpt"})
         for (ChannelSampling sampling : {ChannelSampling::Separate, ChannelSampling::Hero, ChannelSampling::Spectral}) {

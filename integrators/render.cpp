@@ -24,7 +24,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     std::mutex statsMutex;
     for (int channel : passes) {
         parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-            LabelMedium::Sampler medium(*scene.medium);
+            LabelMedium::Sampler medium(*scene.medium, settings.majorants);
             PathStats stats;
             for (size_t i = begin; i < end; ++i) {
                 size_t p = pixels.empty() ? i : pixels[i];

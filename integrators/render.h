@@ -23,6 +23,9 @@ struct RenderSettings {
     // How all three channels are sampled (a subset is always one pass per
     // channel). Separate passes won on the test set (docs/performance.md).
     ChannelSampling channelSampling = ChannelSampling::Separate;
+    // Free flights against per-brick majorants, or the textbook tracker's
+    // one global majorant (single-channel paths; for measurements).
+    Majorants majorants = Majorants::PerBrick;
     VolPathOptions volpath;
     PrintPtOptions printpt;
     bool showProgress = false;

@@ -113,7 +113,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
-                                         "reentry"};
+                                         "reentry", "majorants"};
         for (const PrintPtKey& k : printPtKeys()) keys.push_back(k.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -132,6 +132,11 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
             json.string(ren, "channel_sampling", "render", channelSamplingName(r.channelSampling)));
         if (!sampling) json.fail("render.channel_sampling", "must be separate, hero or spectral");
         r.channelSampling = *sampling;
+        const std::string majorants = json.string(ren, "majorants", "render", "bricks");
+        if (majorants != "bricks" && majorants != "global") json.fail("render.majorants", "must be bricks or global");
+        r.majorants = majorants == "global" ? Majorants::Global : Majorants::PerBrick;
+        if (r.majorants == Majorants::Global && r.channelSampling != ChannelSampling::Separate)
+            json.fail("render.majorants", "global is a single-channel tracker: it needs channel_sampling separate");
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
         for (const PrintPtKey& k : printPtKeys()) {

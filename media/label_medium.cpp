@@ -34,8 +34,9 @@ struct LabelMedium::Sampler::Impl {
     }
 };
 
-LabelMedium::Sampler::Sampler(const LabelMedium& medium)
-    : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium) {}
+LabelMedium::Sampler::Sampler(const LabelMedium& medium, Majorants majorants)
+    : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium),
+      majorants_(majorants) {}
 
 bool LabelMedium::Sampler::nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm) {
     if (!impl_->normal) return false;
@@ -56,9 +57,12 @@ Label LabelMedium::Sampler::labelAt(const Vec3i& v) {
 FreeFlight LabelMedium::Sampler::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel,
                                                   Rng& rng) {
     auto& acc = impl_->accessor;
-    return deltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,
-                      medium_.luts_[channel], channel,
-                      [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
+    auto labelAt = [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); };
+    if (majorants_ == Majorants::Global)
+        return globalDeltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(),
+                                medium_.majorants_.globalMaxSigmaT(channel), medium_.luts_[channel], labelAt, rng);
+    return deltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
+                      channel, labelAt, rng);
 }
 
 FreeFlight LabelMedium::Sampler::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,

@@ -16,6 +16,11 @@
 
 namespace pl {
 
+// What delta tracking samples free flights against: the per-brick
+// majorants (clear resin and void cost little), or one majorant for the
+// whole grid (the textbook tracker, kept to measure the bricks against).
+enum class Majorants { PerBrick, Global };
+
 class LabelMedium {
 public:
     LabelMedium(LabelGrid grid, MaterialTable materials);
@@ -47,12 +52,12 @@ public:
 
     class Sampler {
     public:
-        explicit Sampler(const LabelMedium& medium);
+        explicit Sampler(const LabelMedium& medium, Majorants majorants = Majorants::PerBrick);
         ~Sampler();
         Sampler(const Sampler&) = delete;
         Sampler& operator=(const Sampler&) = delete;
 
-        // Delta tracking along the ray up to tMax_mm.
+        // Delta tracking along the ray up to tMax_mm (against the sampler's majorants).
         FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
         // Three channels at once (see trackers.h): delta tracking for the
         // hero channel with log pdf ratios of the others, or spectral tracking.
@@ -73,6 +78,7 @@ public:
         struct Impl;
         std::unique_ptr<Impl> impl_;
         const LabelMedium& medium_;
+        Majorants majorants_;
     };
 
 private:

@@ -1,7 +1,8 @@
 // Trackers over the piecewise-constant label medium, in cell space (see
 // label_grid.h) with the ray parameter t in millimetres.
 //  - deltaTrack: delta (Woodcock) tracking against the per-brick majorant;
-//    samples a free-flight distance with pdf sigma_t(t) T(t).
+//    samples a free-flight distance with pdf sigma_t(t) T(t);
+//    globalDeltaTrack: the same with one majorant for the whole grid.
 //  - regularTrack: exact transmittance by 3D-DDA through the voxels
 //    (Amanatides-Woo), skipping void bricks and stepping whole uniform bricks.
 //  - inverseTrack: the free flight whose optical depth is a given value
@@ -133,6 +134,28 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
         }
     };
     return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+}
+
+// Textbook delta (Woodcock) tracking: one majorant for the whole grid,
+// the channel's largest sigma_t, a label lookup at every tentative
+// collision. The baseline the per-brick majorants are measured against
+// (Brecka 4.6: in a brick of thin resin most tentative collisions of a
+// global majorant are null).
+template <class LabelLookup>
+FreeFlight globalDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, float sigmaMaj,
+                            const ChannelLut& lut, LabelLookup&& labelAt, Rng& rng) {
+    if (sigmaMaj <= 0.0f) return {};
+    const Vec3i fmax = frame.indexMax();
+    float t0 = 0.0f, t = tMax_mm;
+    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t)) return {};
+    const float tEnd = t, invMaj = 1.0f / sigmaMaj;
+    t = t0;
+    for (;;) {
+        t -= std::log(1.0f - rng.uniform()) * invMaj;
+        if (t >= tEnd) return {};
+        Label l = labelAt(clampToBox(ray.voxelAt(t), frame.indexMin, fmax));
+        if (rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) return {true, t, l};
+    }
 }
 
 // Hero-channel delta tracking for three channels at once: distances are

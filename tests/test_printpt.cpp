@@ -121,6 +121,27 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
     }
 }
 
+// The textbook tracker (one majorant for the grid) in either estimator
+// against volpath with the per-brick majorants, on the halftone-like mix
+// (clear resin and thin inks among dense ones: most tentative collisions of
+// the global majorant are null there).
+TEST(PrintPt, GlobalMajorantAgreesWithBricks) {
+    Scene scene = mixedScene(1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 2));
+    RenderSettings reference;
+    reference.spp = 24;
+    reference.seed = 11;
+    Estimate volpath = renderMean(scene, sensor, reference);
+    for (const char* integrator : {"volpath", "printpt"}) {
+        RenderSettings s = reference;
+        s.integrator = integrator;
+        s.majorants = Majorants::Global;
+        s.seed = 13;
+        expectAgreement(volpath, renderMean(scene, sensor, s), std::string(integrator) + " with a global majorant");
+    }
+}
+
 // A white block with a coloured shell: deep inside, printpt's ball walks
 // take over; the result must still agree with volpath, and with printpt
 // without them.

@@ -125,8 +125,9 @@ TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
 
 // Free-flight distances: chi-square over distance bins plus an escape bin.
 void checkFreeFlight(LabelMedium& medium, const Ray& r, float tMax, int channel,
-                     const std::function<double(double)>& tau, int n, uint64_t seed) {
-    LabelMedium::Sampler sampler(medium);
+                     const std::function<double(double)>& tau, int n, uint64_t seed,
+                     Majorants majorants = Majorants::PerBrick) {
+    LabelMedium::Sampler sampler(medium, majorants);
     const int bins = 60;
     std::vector<double> observed(bins + 1, 0), expected(bins + 1, 0);
     Rng rng(seed, 11);
@@ -165,23 +166,39 @@ TEST(DeltaTracking, LayeredFreeFlightMatchesAnalyticOpticalDepth) {
     checkFreeFlight(medium, r, 6.0f, 1, [&](double t) { return 2 * layeredOpticalDepth(r, t); }, 200000, 4);
 }
 
+// The textbook tracker (one majorant for the grid) samples the same
+// distribution, from a ray that starts outside the grid or inside it.
+TEST(DeltaTracking, GlobalMajorantFreeFlightMatchesAnalyticOpticalDepth) {
+    LabelMedium medium = layeredMedium();
+    Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    checkFreeFlight(medium, r, 6.0f, 0, [&](double t) { return layeredOpticalDepth(r, t); }, 200000, 5,
+                    Majorants::Global);
+    checkFreeFlight(medium, r, 6.0f, 2, [&](double t) { return 0.5 * layeredOpticalDepth(r, t); }, 200000, 6,
+                    Majorants::Global);
+    Ray inside{{1.0f, 3.0f, 3.0f}, normalize(Vec3f(0.7f, -0.2f, 0.3f))};
+    checkFreeFlight(medium, inside, 3.0f, 1, [&](double t) { return 2 * layeredOpticalDepth(inside, t); }, 200000, 7,
+                    Majorants::Global);
+}
+
 TEST(DeltaTracking, CollisionsReportTheLabelWhereTheyHappen) {
     LabelMedium medium = layeredMedium();
-    LabelMedium::Sampler sampler(medium);
-    Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
-    Rng rng(8, 8);
-    int checked = 0;
-    for (int i = 0; i < 20000; ++i) {
-        FreeFlight ff = sampler.sampleFreeFlight(r, 6.0f, 0, rng);
-        if (!ff.scattered) continue;
-        float x = r.at(ff.t_mm).x;
-        // Away from layer planes (float round-off may pick either side).
-        if (std::abs(x / kVoxel.x - std::round(x / kVoxel.x)) < 1e-3f) continue;
-        ASSERT_EQ(ff.label, layerLabelAt(x)) << "x = " << x;
-        EXPECT_GT(medium.lut(0).sigmaT_perMm[ff.label], 0.0f);  // never in the clear layer
-        ++checked;
+    for (Majorants majorants : {Majorants::PerBrick, Majorants::Global}) {
+        LabelMedium::Sampler sampler(medium, majorants);
+        Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+        Rng rng(8, 8);
+        int checked = 0;
+        for (int i = 0; i < 20000; ++i) {
+            FreeFlight ff = sampler.sampleFreeFlight(r, 6.0f, 0, rng);
+            if (!ff.scattered) continue;
+            float x = r.at(ff.t_mm).x;
+            // Away from layer planes (float round-off may pick either side).
+            if (std::abs(x / kVoxel.x - std::round(x / kVoxel.x)) < 1e-3f) continue;
+            ASSERT_EQ(ff.label, layerLabelAt(x)) << "x = " << x;
+            EXPECT_GT(medium.lut(0).sigmaT_perMm[ff.label], 0.0f);  // never in the clear layer
+            ++checked;
+        }
+        EXPECT_GT(checked, 10000);
     }
-    EXPECT_GT(checked, 10000);
 }
 
 TEST(Majorants, ClearAndVoidBricksGetTheirOwnBounds) {
