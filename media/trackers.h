@@ -38,10 +38,14 @@ struct CellRay {
     }
 };
 
+// 8 bytes, returned in one register (a 12-byte layout was assembled on the
+// stack and read back wider than it was written: a store-forwarding stall
+// on every flight).
 struct FreeFlight {
-    bool scattered = false;  // a real collision before tMax
     float t_mm = 0;
     Label label = 0;         // material at the collision
+    bool scattered = false;  // a real collision before tMax
+    static FreeFlight collision(float t_mm, Label label) { return {t_mm, label, true}; }
 };
 
 // Beyond this optical depth the transmittance is below float precision.
@@ -61,25 +65,33 @@ FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame
     const Vec3i fmax = frame.indexMax();
     constexpr int kB = MajorantGrid::kBrickSize;
     FreeFlight ff;
-    float tFrom = 0.0f;
     if (ray.o.x >= frame.indexMin.x && ray.o.y >= frame.indexMin.y && ray.o.z >= frame.indexMin.z &&
         ray.o.x < fmax.x && ray.o.y < fmax.y && ray.o.z < fmax.z) {
-        // Most free flights in dense resin start inside the grid and end in
-        // the brick they start in: track that brick first, with no clipping
-        // and no brick DDA. Its exit is where the brick (cut to the frame) ends.
-        Vec3i first = MajorantGrid::brickOf(clampToBox(ray.voxelAt(0.0f), frame.indexMin, fmax));
-        float tExit = tMax_mm;
-        for (int a = 0; a < 3; ++a) {
-            if (ray.d[a] > 0.0f)
-                tExit = std::min(tExit, (float(std::min((first[a] + 1) * kB, fmax[a])) - ray.o[a]) / ray.d[a]);
-            if (ray.d[a] < 0.0f)
-                tExit = std::min(tExit, (float(std::max(first[a] * kB, frame.indexMin[a])) - ray.o[a]) / ray.d[a]);
+        // Most free flights start inside the grid and end in the brick they
+        // start in: no clipping and no DDA set-up. A flight that goes on
+        // steps from brick to brick across the face it leaves by; each
+        // brick ends where it does or where the frame does.
+        Vec3i brick = MajorantGrid::brickOf(clampToBox(ray.voxelAt(0.0f), frame.indexMin, fmax));
+        auto exitAlong = [&](int a) PL_ALWAYS_INLINE {
+            if (ray.d[a] > 0.0f) return (float(std::min((brick[a] + 1) * kB, fmax[a])) - ray.o[a]) / ray.d[a];
+            if (ray.d[a] < 0.0f) return (float(std::max(brick[a] * kB, frame.indexMin[a])) - ray.o[a]) / ray.d[a];
+            return std::numeric_limits<float>::infinity();
+        };
+        float tNext[3] = {exitAlong(0), exitAlong(1), exitAlong(2)};
+        float tStart = 0.0f;
+        for (;;) {
+            const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+            const float tExit = std::min(std::max(tNext[a], tStart), tMax_mm);
+            if (trackBrick(brick, tStart, tExit, ff)) return ff;
+            if (tExit >= tMax_mm) return {};
+            const bool leavesFrame = ray.d[a] > 0.0f ? (brick[a] + 1) * kB >= fmax[a] : brick[a] * kB <= frame.indexMin[a];
+            if (leavesFrame) return {};
+            brick[a] += ray.d[a] > 0.0f ? 1 : -1;
+            tNext[a] = exitAlong(a);
+            tStart = tExit;
         }
-        if (trackBrick(first, 0.0f, tExit, ff)) return ff;
-        if (tExit >= tMax_mm) return {};
-        tFrom = std::max(0.0f, tExit);
     }
-    float t0 = tFrom, t1 = tMax_mm;
+    float t0 = 0.0f, t1 = tMax_mm;
     if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t1)) return {};
     constexpr float b = 1.0f / kB;
     GridDda bricks(ray.o * b, ray.d * b, t0, t1, maj.brickMin(), maj.brickMax());
@@ -105,17 +117,28 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
                       const MajorantGrid& maj, const ChannelLut& lut, int channel,
                       LabelLookup&& labelAt, Rng& rng) {
     // Tentative collisions at the brick's majorant over [tStart, tEnd),
-    // accepted with sigma_t / majorant (always, in a uniform brick).
+    // accepted with sigma_t / majorant (always, in a uniform brick). The
+    // optical depth (at the majorants) left to the next tentative collision
+    // carries over into the next brick: it is Exp(1) whatever was spent, so
+    // a flight that crosses bricks needs no new logarithm.
+    float tauLeft = -1.0f;  // < 0: draw a new one
     auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
         float sigmaMaj = maj.maxSigmaT(brick, channel);
         if (sigmaMaj <= 0.0f) return false;  // nothing to collide with
         const float invMaj = 1.0f / sigmaMaj;
+        // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
+        auto nextTentative = [&](float from) PL_ALWAYS_INLINE {
+            if (tauLeft < 0.0f) tauLeft = -std::log(1.0f - rng.uniform());
+            float t = from + tauLeft * invMaj;
+            tauLeft = t >= tEnd ? tauLeft - (tEnd - from) * sigmaMaj : -1.0f;
+            return t;
+        };
         const int sole = maj.soleLabel(brick);
         if (sole >= 0) {
             // One material: every tentative collision is real, no lookup.
-            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
+            float t = nextTentative(tStart);
             if (t >= tEnd) return false;
-            out = {true, t, Label(sole)};
+            out = FreeFlight::collision(t, Label(sole));
             return true;
         }
         const bool uniform = sigmaMaj == maj.minSigmaT(brick, channel);
@@ -123,12 +146,11 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
         brickVoxels(brick, frame, lo, hi);
         float t = tStart;
         for (;;) {
-            // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
-            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            t = nextTentative(t);
             if (t >= tEnd) return false;
             Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
             if (uniform || rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) {
-                out = {true, t, l};
+                out = FreeFlight::collision(t, l);
                 return true;
             }
         }
@@ -154,7 +176,7 @@ FreeFlight globalDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& 
         t -= std::log(1.0f - rng.uniform()) * invMaj;
         if (t >= tEnd) return {};
         Label l = labelAt(clampToBox(ray.voxelAt(t), frame.indexMin, fmax));
-        if (rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) return {true, t, l};
+        if (rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) return FreeFlight::collision(t, l);
     }
 }
 
@@ -192,7 +214,7 @@ FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& fr
             }
             flew(t);
             for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[sole] - heroLut.logSigmaT[sole];
-            out = {true, t, Label(sole)};
+            out = FreeFlight::collision(t, Label(sole));
             return true;
         }
         Vec3i lo, hi;
@@ -221,7 +243,7 @@ FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& fr
                 flew(t);
                 foldNulls();
                 for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[l] - heroLut.logSigmaT[l];
-                out = {true, t, l};
+                out = FreeFlight::collision(t, l);
                 return true;
             }
             // Null collision: heroMaj > heroSigma here.
@@ -267,13 +289,13 @@ FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& fra
             if (!(pSum > 0.0f)) {
                 // Nothing left to carry: end here as a real collision of weight 0.
                 weight = {0, 0, 0};
-                out = {true, t, l};
+                out = FreeFlight::collision(t, l);
                 return true;
             }
             if (rng.uniform() * pSum < pReal) {
                 const float scale = pSum / (sigmaMaj * pReal);
                 for (int c = 0; c < 3; ++c) weight[c] *= sigma[c] * scale;
-                out = {true, t, l};
+                out = FreeFlight::collision(t, l);
                 return true;
             }
             const float scale = pSum / (sigmaMaj * pNull);
@@ -354,7 +376,7 @@ FreeFlight inverseTrack(const CellRay& ray, float tMax_mm, float opticalDepth, c
             tau += step;
             return false;
         }
-        out = {true, std::min(s1, s0 + (opticalDepth - tau) / sigma), l};
+        out = FreeFlight::collision(std::min(s1, s0 + (opticalDepth - tau) / sigma), l);
         return true;
     };
     auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
