@@ -168,10 +168,9 @@ FreeFlight globalDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& 
                             const ChannelLut& lut, LabelLookup&& labelAt, Rng& rng) {
     if (sigmaMaj <= 0.0f) return {};
     const Vec3i fmax = frame.indexMax();
-    float t0 = 0.0f, t = tMax_mm;
-    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t)) return {};
-    const float tEnd = t, invMaj = 1.0f / sigmaMaj;
-    t = t0;
+    float t = 0.0f, tEnd = tMax_mm;
+    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t, tEnd)) return {};
+    const float invMaj = 1.0f / sigmaMaj;
     for (;;) {
         t -= std::log(1.0f - rng.uniform()) * invMaj;
         if (t >= tEnd) return {};
