@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "core/fresnel.h"
 #include "core/rng.h"
@@ -11,6 +12,8 @@
 #include "integrators/scene.h"
 
 namespace pl {
+
+class Sensor;
 
 struct PathStats {
     uint64_t paths = 0;
@@ -64,6 +67,9 @@ public:
     // A bound on the standard error that every pixel's estimate shares and
     // the film's per-pixel errors do not see (printpt's control means).
     virtual float sharedStandardError(int /*channel*/) const { return 0.0f; }
+    // Called once before rendering the sensor's pixels in these channels
+    // (single-channel passes): a chance to look at all entries first.
+    virtual void prepare(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
 };
 
 }  // namespace pl

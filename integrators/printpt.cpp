@@ -7,6 +7,8 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "core/scheduler.h"
+#include "core/sensors.h"
 #include "integrators/half_space_walk.h"
 #include "media/ball_walk.h"
 
@@ -68,10 +70,7 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
         path.addLight(L, 1.0f);
         return L;
     }
-    auto t = refract(ray.d, n, scene_.ior);
-    Vec3f d = t ? *t : ray.d;
-    if (dot(d, entry->ng) >= 0) d = -entry->ng;
-    Ray inside = geometry.spawnRay(entry->p, entry->ng, d);
+    const Ray inside = enteringRay(ray, *entry);
 
     // Branching: k walks share the camera ray and the entry.
     const int k = std::max(1, options_.branches);
@@ -102,6 +101,14 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
     return L;
 }
 
+Ray PrintPt::enteringRay(const Ray& camera, const SurfaceHit& entry) const {
+    Vec3f n = dot(camera.d, entry.ng) < 0 ? entry.ns : -entry.ns;
+    auto t = refract(camera.d, n, scene_.ior);
+    Vec3f d = t ? *t : camera.d;
+    if (dot(d, entry.ng) >= 0) d = -entry.ng;
+    return scene_.geometry->spawnRay(entry.p, entry.ng, d);
+}
+
 PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {
     static std::atomic<uint64_t> instances{0};
     id_ = ++instances;
@@ -112,9 +119,11 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), op
     const size_t controls = controlIndex(3, 0, 0);
     controlMean_.reset(new std::atomic<float>[controls]);
     controlStdErr_.reset(new std::atomic<float>[controls]);
+    controlEntries_.reset(new std::atomic<uint32_t>[controls]);
     for (size_t i = 0; i < controls; ++i) {
         controlMean_[i].store(kControlUnknown, std::memory_order_relaxed);
         controlStdErr_[i].store(0.0f, std::memory_order_relaxed);
+        controlEntries_[i].store(0, std::memory_order_relaxed);
     }
     walkHero_ = selectWalk<HeroPath>();
     walkSpectral_ = selectWalk<SpectralPath>();
@@ -281,6 +290,14 @@ float PrintPt::sharedStandardError(int channel) const {
     return worst * scene_.environment[channel];
 }
 
+int64_t PrintPt::controlMeanWalks(const ControlShape& shape) const {
+    // The wedges and curved regions are many: a quarter (wedges) or a
+    // 32nd (curved: a hundred or more pairs per channel on curved objects)
+    // of the walks each; their shared error is still far below a pixel's.
+    if (shape.index() == 0) return options_.controlWalks;
+    return std::max<int64_t>(1024, options_.controlWalks / (shape.curveS >= 0 ? 32 : 4));
+}
+
 float PrintPt::controlMean(int channel, Label label, const ControlShape& shape) const {
     const size_t index = controlIndex(channel, label, shape.index());
     float mean = controlMean_[index].load(std::memory_order_acquire);
@@ -300,14 +317,8 @@ float PrintPt::controlMean(int channel, Label label, const ControlShape& shape) 
         std::memcpy(&bits, &v, sizeof bits);
         seed = mix64(seed ^ bits);
     }
-    // The wedges and curved regions are many: a quarter (wedges) or a
-    // 32nd (curved: a hundred or more pairs per channel on curved objects)
-    // of the walks each; their shared error is still far below a pixel's.
-    int64_t walks = options_.controlWalks;
-    if (shape.index() > 0) {
-        seed = mix64(seed ^ uint64_t(shape.index()));
-        walks = std::max<int64_t>(1024, walks / (shape.curveS >= 0 ? 32 : 4));
-    }
+    const int64_t walks = controlMeanWalks(shape);
+    if (shape.index() > 0) seed = mix64(seed ^ uint64_t(shape.index()));
     if (shape.edgeStep >= 0) {
         hs.hasSide = true;
         hs.sideNormal = {1, 0, 0};
@@ -395,7 +406,14 @@ bool PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path, 
     const bool same = last.integrator == id_ && last.channel == path.channel && equal(last.inside.o, inside.o) &&
                       equal(last.inside.d, inside.d);
     if (!same) {
-        last.controlled = controlFor(inside, path, medium, last.control, last.mean);
+        Label label;
+        ControlShape shape;
+        last.controlled = controlFor(inside, path, medium, last.control, label, shape);
+        if (last.controlled && entriesCounted_) {
+            const uint32_t entries = controlEntries_[controlIndex(path.channel, label, shape.index())];
+            last.controlled = int64_t(entries) * options_.controlMeanWalksPerEntry >= controlMeanWalks(shape);
+        }
+        if (last.controlled) last.mean = controlMean(path.channel, label, shape) * path.Le;
         last.integrator = id_;
         last.channel = path.channel;
         last.inside = inside;
@@ -405,8 +423,37 @@ bool PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path, 
     return last.controlled;
 }
 
+void PrintPt::prepare(const Sensor& sensor, const std::vector<int>& channels) {
+    if (!options_.controlVariate || options_.nee || options_.controlMeanWalksPerEntry <= 0) return;
+    // Every kEntryStride-th pixel's entry once per channel (the surface-voxel
+    // sensor's rays are the same for every sample; a camera's are taken
+    // through pixel centres): the decisions cost what the render's first
+    // sample pays for them, and a stride of 8 brings that to ~1 % of a
+    // 2-spp render of the bone. The counts, and so the decisions, do not
+    // depend on the thread order.
+    const size_t sampled = (sensor.pixelCount() + kEntryStride - 1) / kEntryStride;
+    parallelForTiles(sampled, 64, [&](size_t begin, size_t end) {
+        LabelMedium::Sampler medium(*scene_.medium);
+        for (size_t i = begin; i < end; ++i) {
+            const Ray camera = sensor.generateRay(i * kEntryStride, 0.5f, 0.5f);
+            auto entry = scene_.geometry->intersect(camera);
+            if (!entry) continue;
+            const Ray inside = enteringRay(camera, *entry);
+            for (int c : channels) {
+                SingleChannelPath path{&scene_.medium->lut(c), c, scene_.environment[c]};
+                HalfSpace control;
+                Label label;
+                ControlShape shape;
+                if (controlFor(inside, path, medium, control, label, shape))
+                    controlEntries_[controlIndex(c, label, shape.index())].fetch_add(kEntryStride, std::memory_order_relaxed);
+            }
+        }
+    });
+    entriesCounted_ = true;
+}
+
 bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
-                         HalfSpace& control, float& mean) const {
+                         HalfSpace& control, Label& label, ControlShape& shape) const {
     // Cheapest first: under a halftone the entry's brick holds several resins.
     if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return false;
     // The plane goes through the first point along the ray where the
@@ -434,7 +481,8 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
     const float reach_mm = options_.controlProbe * diffusion_mm;
-    ControlShape shape;
+    label = l;
+    shape = {};
     const bool onlyMaterial = materialBelow(inside, l, reach_mm, control);
     bool fits = onlyMaterial && controlFits(inside, reach_mm, diffusion_mm, control, shape);
     // Curved surfaces fail the flat probes: the region under a paraboloid
@@ -451,9 +499,7 @@ bool PrintPt::controlFor(const Ray& inside, const SingleChannelPath& path, Label
             fits = controlFits(inside, shortReach_mm, diffusion_mm, control, shape);
         }
     }
-    if (!fits) return false;
-    mean = controlMean(path.channel, l, shape) * path.Le;
-    return true;
+    return fits;
 }
 
 bool PrintPt::materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const {

@@ -104,6 +104,12 @@ struct PrintPtOptions {
     // of the remainder's expectation: less of its variance, more walks;
     // measured in docs/performance.md).
     int controlContinuations = 4;
+    // Before a render, the sensor's entries are counted by the control they
+    // would use; a control (material, channel, shape) is used only where
+    // its mean's walks come to at most this many per entry that shares it
+    // (flat: 2,048 entries, wedges 512, curved 64): otherwise they cost more
+    // than it saves (measured: docs/performance.md). 0: every control is used.
+    int64_t controlMeanWalksPerEntry = 64;
 };
 
 class PrintPt : public Integrator {
@@ -118,6 +124,8 @@ public:
               PathStats& stats) const override;
     // The largest standard error of the control means used in the channel.
     float sharedStandardError(int channel) const override;
+    // Counts the sensor's entries per control (controlMeanWalksPerEntry).
+    void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
 
 private:
     // Camera ray to entry, Fresnel there, and the branches' walks.
@@ -142,12 +150,13 @@ private:
     // returns f - g (the caller adds the control's mean).
     float walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control, LabelMedium::Sampler& medium,
                           Rng& rng, PathStats& stats) const;
+    // The refracted ray that enters the object at `entry` (a hit of the
+    // camera ray from outside).
+    Ray enteringRay(const Ray& camera, const SurfaceHit& entry) const;
     // The half-space control of a branch entering along `inside`, and its
-    // mean; false where the entry material has none.
-    bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
-                    HalfSpace& control, float& mean) const;
-    // The same, remembered per thread for the last entry and channel (the
-    // samples of a pixel repeat them).
+    // mean; false where the entry material has none, or where too few
+    // entries share it (controlMeanWalksPerEntry). Remembered per thread for the
+    // last entry and channel (the samples of a pixel repeat them).
     bool controlForEntry(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
                          HalfSpace& control, float& mean) const;
     // The side face of a right-angled edge within reach_mm of the control's
@@ -170,6 +179,10 @@ private:
                                  : 0;
         }
     };
+    // The control that fits the entry along `inside`: its region, the
+    // entry material and the tabulated shape; false where none fits.
+    bool controlFor(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
+                    HalfSpace& control, Label& label, ControlShape& shape) const;
     // Whether the bricks sampled below the entry, over reach_mm, hold only
     // material l (or void).
     bool materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const;
@@ -222,7 +235,14 @@ private:
         return (size_t(channel) * 256 + label) * kControlShapes + size_t(shape);
     }
     float controlMean(int channel, Label label, const ControlShape& shape) const;
+    // The walks that estimate the mean of a control of this shape.
+    int64_t controlMeanWalks(const ControlShape& shape) const;
     std::unique_ptr<std::atomic<float>[]> controlMean_, controlStdErr_;
+    // Entries of the sensor per control, estimated by prepare() from every
+    // kEntryStride-th pixel; until then every control is used.
+    static constexpr uint32_t kEntryStride = 8;
+    std::unique_ptr<std::atomic<uint32_t>[]> controlEntries_;
+    bool entriesCounted_ = false;
 };
 
 }  // namespace pl

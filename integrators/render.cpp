@@ -20,6 +20,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     const bool onePass = rendersChannelsInOnePass(settings);
     // Passes: one per channel, or one (marked -1) for all three.
     const std::vector<int> passes = onePass ? std::vector<int>{-1} : settings.channels;
+    if (!onePass) integrator->prepare(sensor, passes);
     ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
     std::mutex statsMutex;
     for (int channel : passes) {

@@ -30,6 +30,7 @@ const std::vector<PrintPtKey>& printPtKeys() {
         {"control_curved_thickness", K::Number},
         {"control_curved_tolerance", K::Number},
         {"control_continuations", K::Integer},
+        {"control_mean_walks_per_entry", K::Integer},
     };
     return keys;
 }
@@ -83,6 +84,9 @@ std::string setPrintPtOption(PrintPtOptions& o, const std::string& key, double v
     } else if (key == "control_continuations") {
         if (!(value >= 1 && value <= 1024) || value != double(int(value))) return "must be a whole number in 1..1024";
         o.controlContinuations = int(value);
+    } else if (key == "control_mean_walks_per_entry") {
+        if (!(value >= 0 && value <= 1e9) || value != double(int64_t(value))) return "must be a whole number in 0..1e9";
+        o.controlMeanWalksPerEntry = int64_t(value);
     } else if (key == "control_edge_reach") {
         if (!(value >= 0 && value <= 100)) return "must be a number of diffusion lengths in 0..100";
         o.controlEdgeReach = float(value);

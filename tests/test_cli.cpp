@@ -283,7 +283,8 @@ TEST(Cli, PrintPtSwitchesAreChecked) {
     } cases[] = {{"rr_threshold", 0.0, "must be in (0, 1]"},
                  {"branches", 0, "1..1024"},
                  {"ball_min_mfp", -1.0, ">= 0"},
-                 {"ball_walks", 3, "must be"}};
+                 {"ball_walks", 3, "must be"},
+                 {"control_mean_walks_per_entry", -1, "0..1e9"}};
     for (const Case& c : cases) {
         TestScene s(std::string("switch_") + c.key);
         s.scene["render"]["integrator"] = "printpt";

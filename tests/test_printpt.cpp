@@ -207,6 +207,7 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         s.seed = 32;
         s.printpt.controlVariate = true;
         s.printpt.controlWalks = 1 << 16;
+        s.printpt.controlMeanWalksPerEntry = 0;  // every control, however few entries share it
         const std::string what = shell ? "control variate, coloured shell" : "control variate, white";
         RenderResult with = render(scene, sensor, s);
         expectAgreement(volpath, test::meanOf(with), what);
@@ -299,6 +300,42 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     for (size_t i = 0; i < byPixel.size(); ++i) ASSERT_EQ(byPixel[i], bySample[i]) << "sample " << i;
 }
 
+// Before a render the sensor's entries are counted per control, and a
+// control whose mean's walks would come to more than
+// controlMeanWalksPerEntry per entry that shares it is not used: where
+// none qualifies, the render is the one without the control variate, bit
+// for bit, and no mean is estimated; where all do, the controls run.
+TEST(PrintPt, ControlsTooFewEntriesShareAreLeftOut) {
+    Scene scene = whiteBall();
+    SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), everyNthSurfaceVoxel(scene.medium->grid(), 7));
+    RenderSettings s;
+    s.integrator = "printpt";
+    s.spp = 1;
+    s.seed = 9;
+    s.printpt.controlWalks = 1 << 12;
+    s.printpt.controlCurvedThickness = 1.0f;
+    auto usesControls = [](const RenderResult& r) {
+        return r.sharedStandardError[0] + r.sharedStandardError[1] + r.sharedStandardError[2] > 0.0f;
+    };
+    s.printpt.controlMeanWalksPerEntry = 0;
+    EXPECT_TRUE(usesControls(render(scene, sensor, s)));
+    // One walk per entry: a curved control (1,024 walks) would need 1,024
+    // entries, the flat one 4,096; this sensor has ~1,000 pixels in all.
+    ASSERT_LT(sensor.pixelCount(), 1024u);
+    s.printpt.controlMeanWalksPerEntry = 1;
+    RenderResult leftOut = render(scene, sensor, s);
+    EXPECT_FALSE(usesControls(leftOut));
+    s.printpt.controlVariate = false;
+    RenderResult without = render(scene, sensor, s);
+    for (size_t p = 0; p < sensor.pixelCount(); ++p)
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(leftOut.film.mean(p, c), without.film.mean(p, c)) << p;
+    // The default keeps the controls that enough entries share.
+    s.printpt = PrintPtOptions{};
+    s.printpt.controlWalks = 1 << 12;
+    s.printpt.controlCurvedThickness = 1.0f;
+    EXPECT_TRUE(usesControls(render(scene, sensor, s)));
+}
+
 // Under a curved surface the control is the region below a paraboloid
 // with tabulated curvatures (integrators/half_space_walk.h): on a white
 // ball, where the flat probes fail in red and green, printpt must still
@@ -318,6 +355,7 @@ TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     s.spp = 2;
     s.seed = 42;
     s.printpt.controlWalks = 1 << 16;
+    s.printpt.controlMeanWalksPerEntry = 0;   // every control, however few entries share it
     s.printpt.controlCurvedThickness = 1.0f;  // red's diffusion length is 1.75 mm: the default 2 would leave it out
     RenderResult curved = render(scene, sensor, s);
     expectAgreement(volpath, test::meanOf(curved), "curved controls, white ball");
