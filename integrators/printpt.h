@@ -39,7 +39,9 @@
 //    wedge under both faces, with the mean tabulated over the distance to
 //    the edge; under convex curved surfaces (`controlCurved`) it is the
 //    region under a paraboloid fitted to the surface, with the mean
-//    tabulated over its two principal curvatures;
+//    tabulated over its two principal curvatures; before a render the
+//    sensor's entries are counted per control, and controls that too few
+//    entries share for the cost of their means are left out;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
