@@ -60,45 +60,39 @@ PL_ALWAYS_INLINE inline Vec3i clampToBox(Vec3i v, const Vec3i& lo, const Vec3i& 
 // crosses up to tMax_mm, in order, until it reports a collision (free flights
 // are memoryless: restarting at a brick's entry is exact).
 template <class TrackBrick>
-FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
-                       TrackBrick&& trackBrick) {
+FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, TrackBrick&& trackBrick) {
     const Vec3i fmax = frame.indexMax();
     constexpr int kB = MajorantGrid::kBrickSize;
-    FreeFlight ff;
-    if (ray.o.x >= frame.indexMin.x && ray.o.y >= frame.indexMin.y && ray.o.z >= frame.indexMin.z &&
-        ray.o.x < fmax.x && ray.o.y < fmax.y && ray.o.z < fmax.z) {
-        // Most free flights start inside the grid and end in the brick they
-        // start in: no clipping and no DDA set-up. A flight that goes on
-        // steps from brick to brick across the face it leaves by; each
-        // brick ends where it does or where the frame does.
-        Vec3i brick = MajorantGrid::brickOf(clampToBox(ray.voxelAt(0.0f), frame.indexMin, fmax));
-        auto exitAlong = [&](int a) PL_ALWAYS_INLINE {
-            if (ray.d[a] > 0.0f) return (float(std::min((brick[a] + 1) * kB, fmax[a])) - ray.o[a]) / ray.d[a];
-            if (ray.d[a] < 0.0f) return (float(std::max(brick[a] * kB, frame.indexMin[a])) - ray.o[a]) / ray.d[a];
-            return std::numeric_limits<float>::infinity();
-        };
-        float tNext[3] = {exitAlong(0), exitAlong(1), exitAlong(2)};
-        float tStart = 0.0f;
-        for (;;) {
-            const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
-            const float tExit = std::min(std::max(tNext[a], tStart), tMax_mm);
-            if (trackBrick(brick, tStart, tExit, ff)) return ff;
-            if (tExit >= tMax_mm) return {};
-            const bool leavesFrame = ray.d[a] > 0.0f ? (brick[a] + 1) * kB >= fmax[a] : brick[a] * kB <= frame.indexMin[a];
-            if (leavesFrame) return {};
-            brick[a] += ray.d[a] > 0.0f ? 1 : -1;
-            tNext[a] = exitAlong(a);
-            tStart = tExit;
-        }
+    // Most free flights start inside the grid (no clipping); others start
+    // where they enter it.
+    float tStart = 0.0f;
+    if (!(ray.o.x >= frame.indexMin.x && ray.o.y >= frame.indexMin.y && ray.o.z >= frame.indexMin.z &&
+          ray.o.x < fmax.x && ray.o.y < fmax.y && ray.o.z < fmax.z)) {
+        float tEnd = tMax_mm;
+        if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, tStart, tEnd)) return {};
     }
-    float t0 = 0.0f, t1 = tMax_mm;
-    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t0, t1)) return {};
-    constexpr float b = 1.0f / kB;
-    GridDda bricks(ray.o * b, ray.d * b, t0, t1, maj.brickMin(), maj.brickMax());
-    DdaSegment seg;
-    while (bricks.next(seg))
-        if (trackBrick(seg.cell, seg.t0, seg.t1, ff)) return ff;
-    return {};
+    // Most end in the brick they start in. One that goes on steps from
+    // brick to brick across the face it leaves by (no DDA set-up); each
+    // brick ends where it does or where the frame does.
+    Vec3i brick = MajorantGrid::brickOf(clampToBox(ray.voxelAt(tStart), frame.indexMin, fmax));
+    auto exitAlong = [&](int a) PL_ALWAYS_INLINE {
+        if (ray.d[a] > 0.0f) return (float(std::min((brick[a] + 1) * kB, fmax[a])) - ray.o[a]) / ray.d[a];
+        if (ray.d[a] < 0.0f) return (float(std::max(brick[a] * kB, frame.indexMin[a])) - ray.o[a]) / ray.d[a];
+        return std::numeric_limits<float>::infinity();
+    };
+    float tNext[3] = {exitAlong(0), exitAlong(1), exitAlong(2)};
+    FreeFlight ff;
+    for (;;) {
+        const int a = tNext[0] < tNext[1] ? (tNext[0] < tNext[2] ? 0 : 2) : (tNext[1] < tNext[2] ? 1 : 2);
+        const float tExit = std::min(std::max(tNext[a], tStart), tMax_mm);
+        if (trackBrick(brick, tStart, tExit, ff)) return ff;
+        if (tExit >= tMax_mm) return {};
+        const bool leavesFrame = ray.d[a] > 0.0f ? (brick[a] + 1) * kB >= fmax[a] : brick[a] * kB <= frame.indexMin[a];
+        if (leavesFrame) return {};
+        brick[a] += ray.d[a] > 0.0f ? 1 : -1;
+        tNext[a] = exitAlong(a);
+        tStart = tExit;
+    }
 }
 
 // The voxels of a brick inside the frame, [lo, hi): round-off must not
@@ -155,7 +149,7 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
             }
         }
     };
-    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+    return trackBricks(ray, tMax_mm, frame, trackBrick);
 }
 
 // Textbook delta (Woodcock) tracking: one majorant for the whole grid,
@@ -253,7 +247,7 @@ FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& fr
                 if (nullRatio[c] > 1e100) foldNulls();  // rare: keep the product finite
         }
     };
-    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+    return trackBricks(ray, tMax_mm, frame, trackBrick);
 }
 
 // Spectral tracking (Kutz et al. 2017) for three channels at once: one
@@ -301,7 +295,7 @@ FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& fra
             for (int c = 0; c < 3; ++c) weight[c] *= (sigmaMaj - sigma[c]) * scale;
         }
     };
-    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+    return trackBricks(ray, tMax_mm, frame, trackBrick);
 }
 
 // Russian roulette on a transmittance estimate: once the estimate
@@ -329,36 +323,29 @@ template <class LabelLookup>
 float regularTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
                    const MajorantGrid& maj, const ChannelLut& lut, int channel,
                    LabelLookup&& labelAt, TransmittanceRoulette roulette = {}) {
-    float t0 = 0.0f, t1 = tMax_mm;
-    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, frame.indexMax(), t0, t1)) return 1.0f;
-    constexpr float b = 1.0f / MajorantGrid::kBrickSize;
-    GridDda bricks(ray.o * b, ray.d * b, t0, t1, maj.brickMin(), maj.brickMax());
     float tau = 0.0f;
-    DdaSegment seg;
-    while (bricks.next(seg)) {
-        float sMax = maj.maxSigmaT(seg.cell, channel);
-        if (sMax <= 0.0f) continue;
-        if (sMax == maj.minSigmaT(seg.cell, channel)) {
-            // Uniform brick: one step.
-            tau += sMax * (seg.t1 - seg.t0);
+    bool ended = false;  // by the roulette, or nothing gets through
+    // Uniform bricks in one step, mixed ones voxel by voxel.
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
+        const float sMax = maj.maxSigmaT(brick, channel);
+        if (sMax <= 0.0f) return false;
+        if (sMax == maj.minSigmaT(brick, channel)) {
+            tau += sMax * (tEnd - tStart);
         } else {
-            Vec3i lo{seg.cell.x << MajorantGrid::kBrickLog2,
-                     seg.cell.y << MajorantGrid::kBrickLog2,
-                     seg.cell.z << MajorantGrid::kBrickLog2};
-            Vec3i hi{lo.x + MajorantGrid::kBrickSize, lo.y + MajorantGrid::kBrickSize,
-                     lo.z + MajorantGrid::kBrickSize};
-            GridDda voxels(ray.o, ray.d, seg.t0, seg.t1, lo, hi);
+            Vec3i lo, hi;
+            brickVoxels(brick, frame, lo, hi);
+            GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
             DdaSegment v;
             while (voxels.next(v)) {
                 tau += lut.sigmaT_perMm[labelAt(v.cell)] * (v.t1 - v.t0);
-                if (!roulette.survives(tau)) return 0.0f;
+                if (!roulette.survives(tau)) return ended = true;
             }
         }
-        if (!roulette.survives(tau)) return 0.0f;
         // Early exit once nothing gets through.
-        if (tau - roulette.logScale > kOpaqueOpticalDepth) return 0.0f;
-    }
-    return std::exp(-(tau - roulette.logScale));
+        return ended = !roulette.survives(tau) || tau - roulette.logScale > kOpaqueOpticalDepth;
+    };
+    trackBricks(ray, tMax_mm, frame, trackBrick);
+    return ended ? 0.0f : std::exp(-(tau - roulette.logScale));
 }
 
 // The collision at optical depth `opticalDepth` (an Exp(1) sample gives a
@@ -390,7 +377,7 @@ FreeFlight inverseTrack(const CellRay& ray, float tMax_mm, float opticalDepth, c
             if (reaches(labelAt(v.cell), v.t0, v.t1, out)) return true;
         return false;
     };
-    return trackBricks(ray, tMax_mm, frame, maj, trackBrick);
+    return trackBricks(ray, tMax_mm, frame, trackBrick);
 }
 
 }  // namespace pl
