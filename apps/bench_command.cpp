@@ -125,7 +125,42 @@ struct Row {
     uint32_t spp;
     RGB rmseChannel;
     double rmse, relMse, mseTime;
+    RGB passSeconds;  // per channel (separate passes; zero for one pass)
 };
+
+// Where a channel's own pass shows where the time and the error go: each
+// channel's pass time and its equal-error speed-up over the baseline's pass
+// (the set-up before the passes is in neither). Empty without separate passes.
+std::string perChannelTable(const std::vector<Row>& rows, const std::string& baseline) {
+    auto separate = [](const Row& r) { return r.passSeconds[0] > 0 || r.passSeconds[1] > 0 || r.passSeconds[2] > 0; };
+    if (std::none_of(rows.begin(), rows.end(), separate)) return "";
+    auto mseTime = [](const Row& r, int c) { return double(r.rmseChannel[c]) * r.rmseChannel[c] * r.passSeconds[c]; };
+    std::map<double, const Row*> base;
+    for (const Row& r : rows)
+        if (r.config == baseline && separate(r)) base[r.budget] = &r;
+    std::ostringstream md;
+    md << "\nPer channel (separate passes): each channel's pass time and its speed-up by the channel's MSE x pass "
+          "time over "
+       << baseline << "'s.\n\n";
+    md << "| config | budget (s) | time R (s) | time G (s) | time B (s) | speed-up R | speed-up G | speed-up B |\n";
+    md << "|---|---|---|---|---|---|---|---|\n";
+    for (const Row& r : rows) {
+        if (!separate(r)) continue;
+        char line[256];
+        std::snprintf(line, sizeof line, "%s | %.3g | %.3f | %.3f | %.3f", r.config.c_str(), r.budget,
+                      r.passSeconds[0], r.passSeconds[1], r.passSeconds[2]);
+        md << "| " << line;
+        for (int c = 0; c < 3; ++c) {
+            const Row* b = base.count(r.budget) ? base[r.budget] : nullptr;
+            char cell[32] = "-";
+            if (b && mseTime(r, c) > 0 && mseTime(*b, c) > 0)
+                std::snprintf(cell, sizeof cell, "%.2f", mseTime(*b, c) / mseTime(r, c));
+            md << " | " << cell;
+        }
+        md << " |\n";
+    }
+    return md.str();
+}
 
 struct Errors {
     RGB rmse;
@@ -332,7 +367,7 @@ int benchCommand(const std::vector<std::string>& argv) {
             Errors e = self ? selfVariance(r.film, r.sharedStandardError, ownMeanSq) : compare(r.film, *sensor, ref);
             if (self) selfFilms.emplace_back(std::move(r.film), r.sharedStandardError);
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
-                            e.rmseAll * e.rmseAll * r.seconds});
+                            e.rmseAll * e.rmseAll * r.seconds, r.passSeconds});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
@@ -391,6 +426,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         c.erase(std::remove(c.begin(), c.end(), ' '), c.end());
         csv << c << "\n";
     }
+    md << perChannelTable(rows, baseline);
     std::string prefix = args.value("--out").value_or("bench");
     writeTextFile(prefix + ".md", md.str());
     writeTextFile(prefix + ".csv", csv.str());

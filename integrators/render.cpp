@@ -24,6 +24,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
     std::mutex statsMutex;
     for (int channel : passes) {
+        const auto passStart = std::chrono::steady_clock::now();
         parallelForTiles(n, 64, [&](size_t begin, size_t end) {
             LabelMedium::Sampler medium(*scene.medium, settings.majorants);
             PathStats stats;
@@ -62,6 +63,9 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
             std::lock_guard<std::mutex> lock(statsMutex);
             result.stats += stats;
         });
+        if (channel >= 0)
+            result.passSeconds[channel] +=
+                float(std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count());
     }
     throwIfInterrupted();
     progress.finish();

@@ -354,7 +354,25 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_NE(csv.find("volpath-separate,1,3,"), std::string::npos) << csv;
     // Hero channels need two groups of three samples for a variance.
     EXPECT_NE(csv.find("printpt-hero/k=1/rr_threshold=0.5,1,6,"), std::string::npos) << csv;
-    EXPECT_NE(readText(s.dir / "b.md").find("own variance estimate"), std::string::npos);
+    const std::string md = readText(s.dir / "b.md");
+    EXPECT_NE(md.find("own variance estimate"), std::string::npos);
+    // The per-channel table: separate passes only, each pass timed within
+    // the render's time, the baseline (the first configuration) at 1.00.
+    const size_t table = md.find("Per channel (separate passes)");
+    ASSERT_NE(table, std::string::npos) << md;
+    const size_t row = md.find("| volpath-separate | 1 | ", table);
+    ASSERT_NE(row, std::string::npos) << md;
+    EXPECT_EQ(md.find("printpt-hero", table), std::string::npos) << md;
+    std::istringstream cells(md.substr(row + std::string("| volpath-separate | 1 | ").size()));
+    double passR = 0, passG = 0, passB = 0;
+    char bar = 0;
+    cells >> passR >> bar >> passG >> bar >> passB;
+    const double total = std::stod(csv.substr(csv.find("volpath-separate,1,3,") + std::string("volpath-separate,1,3,").size()));
+    EXPECT_GT(passR, 0.0);
+    EXPECT_GT(passG, 0.0);
+    EXPECT_GT(passB, 0.0);
+    EXPECT_LE(passR + passG + passB, total * 1.001 + 0.001) << md << csv;
+    EXPECT_NE(md.find("| 1.00 | 1.00 | 1.00 |", row), std::string::npos) << md;
     // Overrides are checked.
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/bogus=1", s.dir);
     EXPECT_EQ(r.exitCode, 2);
