@@ -131,13 +131,12 @@ struct Row {
 // Where a channel's own pass shows where the time and the error go: each
 // channel's pass time and its equal-error speed-up over the baseline's pass
 // (the set-up before the passes is in neither). Empty without separate passes.
-std::string perChannelTable(const std::vector<Row>& rows, const std::string& baseline) {
+std::string perChannelTable(const std::vector<Row>& rows, const std::string& baseline,
+                            const std::map<double, const Row*>& baselineRows) {
     auto separate = [](const Row& r) { return r.passSeconds[0] > 0 || r.passSeconds[1] > 0 || r.passSeconds[2] > 0; };
     if (std::none_of(rows.begin(), rows.end(), separate)) return "";
+    // Zero where the row has no pass of its own (one-pass configurations).
     auto mseTime = [](const Row& r, int c) { return double(r.rmseChannel[c]) * r.rmseChannel[c] * r.passSeconds[c]; };
-    std::map<double, const Row*> base;
-    for (const Row& r : rows)
-        if (r.config == baseline && separate(r)) base[r.budget] = &r;
     std::ostringstream md;
     md << "\nPer channel (separate passes): each channel's pass time and its speed-up by the channel's MSE x pass "
           "time over "
@@ -150,11 +149,11 @@ std::string perChannelTable(const std::vector<Row>& rows, const std::string& bas
         std::snprintf(line, sizeof line, "%s | %.3g | %.3f | %.3f | %.3f", r.config.c_str(), r.budget,
                       r.passSeconds[0], r.passSeconds[1], r.passSeconds[2]);
         md << "| " << line;
+        const auto b = baselineRows.find(r.budget);
         for (int c = 0; c < 3; ++c) {
-            const Row* b = base.count(r.budget) ? base[r.budget] : nullptr;
             char cell[32] = "-";
-            if (b && mseTime(r, c) > 0 && mseTime(*b, c) > 0)
-                std::snprintf(cell, sizeof cell, "%.2f", mseTime(*b, c) / mseTime(r, c));
+            if (b != baselineRows.end() && mseTime(r, c) > 0 && mseTime(*b->second, c) > 0)
+                std::snprintf(cell, sizeof cell, "%.2f", mseTime(*b->second, c) / mseTime(r, c));
             md << " | " << cell;
         }
         md << " |\n";
@@ -398,9 +397,9 @@ int benchCommand(const std::vector<std::string>& argv) {
     // configuration), per budget (MSE x time ratio).
     const std::string baseline =
         std::find(names.begin(), names.end(), "volpath") != names.end() ? "volpath" : names.front();
-    std::map<double, double> baselineMseTime;
+    std::map<double, const Row*> baselineRows;  // per budget
     for (const Row& r : rows)
-        if (r.config == baseline) baselineMseTime[r.budget] = r.mseTime;
+        if (r.config == baseline) baselineRows[r.budget] = &r;
     std::ostringstream md, csv;
     if (self)
         md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
@@ -414,7 +413,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
     csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline\n";
     for (const Row& r : rows) {
-        double speedup = baselineMseTime.count(r.budget) ? baselineMseTime[r.budget] / r.mseTime : NAN;
+        double speedup = baselineRows.count(r.budget) ? baselineRows[r.budget]->mseTime / r.mseTime : NAN;
         char line[512];
         std::snprintf(line, sizeof line, "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f",
                       r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
@@ -426,7 +425,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         c.erase(std::remove(c.begin(), c.end(), ' '), c.end());
         csv << c << "\n";
     }
-    md << perChannelTable(rows, baseline);
+    md << perChannelTable(rows, baseline, baselineRows);
     std::string prefix = args.value("--out").value_or("bench");
     writeTextFile(prefix + ".md", md.str());
     writeTextFile(prefix + ".csv", csv.str());

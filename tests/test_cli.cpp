@@ -360,14 +360,15 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     // the render's time, the baseline (the first configuration) at 1.00.
     const size_t table = md.find("Per channel (separate passes)");
     ASSERT_NE(table, std::string::npos) << md;
-    const size_t row = md.find("| volpath-separate | 1 | ", table);
+    const std::string rowStart = "| volpath-separate | 1 | ", csvStart = "volpath-separate,1,3,";
+    const size_t row = md.find(rowStart, table);
     ASSERT_NE(row, std::string::npos) << md;
     EXPECT_EQ(md.find("printpt-hero", table), std::string::npos) << md;
-    std::istringstream cells(md.substr(row + std::string("| volpath-separate | 1 | ").size()));
+    std::istringstream cells(md.substr(row + rowStart.size()));
     double passR = 0, passG = 0, passB = 0;
     char bar = 0;
     cells >> passR >> bar >> passG >> bar >> passB;
-    const double total = std::stod(csv.substr(csv.find("volpath-separate,1,3,") + std::string("volpath-separate,1,3,").size()));
+    const double total = std::stod(csv.substr(csv.find(csvStart) + csvStart.size()));
     EXPECT_GT(passR, 0.0);
     EXPECT_GT(passG, 0.0);
     EXPECT_GT(passB, 0.0);
