@@ -168,20 +168,20 @@ struct Errors {
 
 constexpr uint32_t kMinSelfSpp = 4;
 
-// The film's own variance estimate as the expected squared error, plus the
-// variance every pixel shares (printpt's control means). The relative MSE
+// The film's own variance estimate as the expected squared error (its
+// standard errors include what samples share through printpt's estimated
+// control means). The relative MSE
 // divides by relativeTo(p, c), a squared mean: with the film's own means,
 // whose noise differs from one configuration to the next, dark pixels
 // weigh in by how noisy each render's estimate of their darkness is, and a
 // noisier configuration can come out ahead.
 template <class RelativeTo>
-Errors selfVariance(const Film& film, const RGB& shared, RelativeTo&& relativeTo) {
+Errors selfVariance(const Film& film, RelativeTo&& relativeTo) {
     double se[3] = {0, 0, 0}, rel = 0;
     size_t n = film.pixelCount();
     for (size_t p = 0; p < n; ++p)
         for (int c = 0; c < 3; ++c) {
-            double mSq = relativeTo(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c) +
-                                               double(shared[c]) * shared[c];
+            double mSq = relativeTo(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c);
             se[c] += v;
             rel += v / (mSq + 1e-3);
         }
@@ -340,7 +340,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     std::vector<Row> rows;
     // Self-variance: each render's film, kept until all are done for the
     // relative MSE (one denominator for all renders).
-    std::vector<std::pair<Film, RGB>> selfFilms;
+    std::vector<Film> selfFilms;
     for (const std::string& name : names) {
         // Each configuration estimates its control means itself, as a render
         // of it alone would (they are kept for the process otherwise).
@@ -363,8 +363,8 @@ int benchCommand(const std::vector<std::string>& argv) {
             RenderResult r = render(scene, *sensor, s);
             // (With several renders the relative MSE is redone below, over one denominator.)
             auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
-            Errors e = self ? selfVariance(r.film, r.sharedStandardError, ownMeanSq) : compare(r.film, *sensor, ref);
-            if (self) selfFilms.emplace_back(std::move(r.film), r.sharedStandardError);
+            Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, *sensor, ref);
+            if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
@@ -376,21 +376,21 @@ int benchCommand(const std::vector<std::string>& argv) {
         // One denominator for every render: the renders' means pooled with
         // weights 1 / (render's MSE), so the comparison between
         // configurations is like for like and the least noisy render counts most.
-        const size_t n = selfFilms.front().first.pixelCount();
+        const size_t n = selfFilms.front().pixelCount();
         std::vector<std::array<double, 3>> pooled(n, {0, 0, 0});
         double weights = 0;
         for (size_t i = 0; i < selfFilms.size(); ++i) {
             const double w = 1.0 / std::max(rows[i].rmse * rows[i].rmse, 1e-30);
             weights += w;
             for (size_t p = 0; p < n; ++p)
-                for (int c = 0; c < 3; ++c) pooled[p][c] += w * selfFilms[i].first.mean(p, c);
+                for (int c = 0; c < 3; ++c) pooled[p][c] += w * selfFilms[i].mean(p, c);
         }
         auto meanSq = [&](size_t p, int c) {
             const double m = pooled[p][c] / weights;
             return m * m;
         };
         for (size_t i = 0; i < selfFilms.size(); ++i)
-            rows[i].relMse = selfVariance(selfFilms[i].first, selfFilms[i].second, meanSq).relMse;
+            rows[i].relMse = selfVariance(selfFilms[i], meanSq).relMse;
     }
 
     // Equal-error speed-up over the baseline (volpath, or else the first

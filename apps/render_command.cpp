@@ -37,6 +37,29 @@ std::string siRate(double v) {
     return buf;
 }
 
+// Which of printpt's controls ran (shares of the walks), and the part of
+// the variance that samples share through estimated control means when
+// it is over 1 %: "" where no control ran.
+std::string controlSummary(const RenderResult& r) {
+    const uint64_t* walks = r.stats.controlledWalks;
+    if (walks[0] + walks[1] + walks[2] == 0 || r.stats.paths == 0) return "";
+    auto percent = [&](uint64_t n) { return 100.0 * double(n) / double(r.stats.paths); };
+    char text[192];
+    int length = std::snprintf(text, sizeof text, ", controls on %.0f %% of walks (half-space %.0f %%, wedge %.0f %%, curved %.0f %%)",
+                               percent(walks[0] + walks[1] + walks[2]), percent(walks[0]), percent(walks[1]),
+                               percent(walks[2]));
+    double shared = 0, total = 0;
+    for (size_t p = 0; p < r.film.pixelCount(); ++p)
+        for (int c = 0; c < kChannels; ++c) {
+            shared += std::pow(double(r.film.sharedError(p, c)), 2);
+            total += std::pow(double(r.film.standardError(p, c)), 2);
+        }
+    if (total > 0 && shared > 0.01 * total)
+        std::snprintf(text + length, sizeof text - size_t(length), ", %.0f %% of the variance shared through their means",
+                      100.0 * shared / total);
+    return text;
+}
+
 }  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {
@@ -107,12 +130,12 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::snprintf(balls, sizeof balls, " (%.0f %% in ball walks)",
                       100.0 * double(result.stats.ballEvents) / double(result.stats.scatterEvents));
     std::printf("render %.2f s wall (%.2f s total), %s samples (%s px x %u spp x %zu ch), "
-                "%s paths/s, %s scattering events/s%s, %d thread(s) -> %s\n",
+                "%s paths/s, %s scattering events/s%s%s, %d thread(s) -> %s\n",
                 s, secondsSince(t0), withThousands(samples).c_str(),
                 withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), balls, threads.count,
-                (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
+                siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(),
+                threads.count, (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
     return 0;
 }
 

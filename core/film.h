@@ -18,6 +18,12 @@ public:
 
     size_t pixelCount() const { return acc_.size(); }
     void add(size_t pixel, int channel, float value) { addGroup(pixel, channel, value, 1); }
+    // A sample with a standard error that it shares with other samples
+    // (an estimated quantity they all use): added to the pixel's error.
+    void add(size_t pixel, int channel, float value, float sharedError) {
+        addGroup(pixel, channel, value, 1);
+        acc_[pixel][channel].sharedErrorSum += sharedError;
+    }
     // A group of k samples that must count as one unit for the variance:
     // samples drawn together by stratification (hero channels going round
     // three samples) are not independent, their group means are.
@@ -36,12 +42,23 @@ public:
     // Standard error of the mean from the spread of the units (samples or
     // groups), each weighted by its size: sqrt(sample variance / n) when
     // every unit is one sample.
-    float standardError(size_t pixel, int channel) const {
+    float spreadError(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
         if (a.units < 2) return 0.0f;
         double m = a.sum / a.count;
         double var = std::max(0.0, (a.sumSq - a.count * m * m) / (double(a.count) * (a.units - 1)));
         return float(std::sqrt(var));
+    }
+    // The part of the mean's error that its samples share with others (a
+    // bound: the mean of the samples' shared errors, as if all came from
+    // one estimated quantity). Pixels that used the same one share it too.
+    float sharedError(size_t pixel, int channel) const {
+        const Accumulator& a = acc_[pixel][channel];
+        return a.count ? float(a.sharedErrorSum / a.count) : 0.0f;
+    }
+    // The whole standard error of the mean: spread and shared parts.
+    float standardError(size_t pixel, int channel) const {
+        return std::hypot(spreadError(pixel, channel), sharedError(pixel, channel));
     }
     RGB meanRGB(size_t pixel) const {
         return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
@@ -53,6 +70,7 @@ public:
 private:
     struct Accumulator {
         double sum = 0, sumSq = 0;
+        double sharedErrorSum = 0;  // of the samples' shared standard errors
         uint32_t count = 0;  // samples
         uint32_t units = 0;  // independent units (samples or groups)
     };

@@ -23,10 +23,7 @@ PerspectiveSensor::PerspectiveSensor(const CameraPose& pose, float fovY_deg, int
                                      int height)
     : CameraSensor(pose, width, height), tanHalfFovY_(std::tan(0.5f * fovY_deg * kPi / 180.0f)) {}
 
-Ray PerspectiveSensor::generateRay(size_t pixel, float u0, float u1) const {
-    // Box-filtered pixel: uniform position inside the pixel footprint.
-    float x, y;
-    filmPosition(pixel, u0, u1, x, y);
+Ray PerspectiveSensor::rayThrough(float x, float y) const {
     float aspect = float(width_) / float(height_);
     Vec3f d = forward_ + right_ * (x * tanHalfFovY_ * aspect) + up_ * (y * tanHalfFovY_);
     return {origin_, normalize(d)};
@@ -36,9 +33,7 @@ OrthographicSensor::OrthographicSensor(const CameraPose& pose, float viewWidth_m
                                        int height)
     : CameraSensor(pose, width, height), viewWidth_mm_(viewWidth_mm) {}
 
-Ray OrthographicSensor::generateRay(size_t pixel, float u0, float u1) const {
-    float x, y;
-    filmPosition(pixel, u0, u1, x, y);
+Ray OrthographicSensor::rayThrough(float x, float y) const {
     float viewHeight_mm = viewWidth_mm_ * float(height_) / float(width_);
     return {origin_ + right_ * (0.5f * x * viewWidth_mm_) + up_ * (0.5f * y * viewHeight_mm), forward_};
 }

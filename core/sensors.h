@@ -25,6 +25,15 @@ public:
     virtual int imageWidth() const = 0;
     virtual int imageHeight() const = 0;
     virtual int64_t pixelImageIndex(size_t pixel) const { return int64_t(pixel); }
+    // Rays that stand for the sensor's view whatever its resolution, for
+    // decisions an estimator takes before rendering (printpt's control
+    // census): surveyRayCount() of them, each standing for
+    // surveyRayWeight() entries. Here every kSurveyStride-th pixel's
+    // centre (the surface-voxel sensor, whose pixels are the object's).
+    static constexpr uint32_t kSurveyStride = 8;
+    virtual size_t surveyRayCount() const { return (pixelCount() + kSurveyStride - 1) / kSurveyStride; }
+    virtual Ray surveyRay(size_t i) const { return generateRay(i * kSurveyStride, 0.5f, 0.5f); }
+    virtual uint32_t surveyRayWeight() const { return kSurveyStride; }
 };
 
 struct CameraPose {
@@ -40,8 +49,25 @@ public:
     size_t pixelCount() const override { return size_t(width_) * height_; }
     int imageWidth() const override { return width_; }
     int imageHeight() const override { return height_; }
+    Ray generateRay(size_t pixel, float u0, float u1) const override {
+        float x, y;
+        filmPosition(pixel, u0, u1, x, y);
+        return rayThrough(x, y);
+    }
+    // The survey: a kSurveySide^2 grid over the film, whatever the image's
+    // resolution; each ray stands for one entry of a view that size.
+    static constexpr int kSurveySide = 256;
+    size_t surveyRayCount() const override { return size_t(kSurveySide) * kSurveySide; }
+    Ray surveyRay(size_t i) const override {
+        const float x = (float(i % kSurveySide) + 0.5f) / kSurveySide * 2.0f - 1.0f;
+        const float y = 1.0f - (float(i / kSurveySide) + 0.5f) / kSurveySide * 2.0f;
+        return rayThrough(x, y);
+    }
+    uint32_t surveyRayWeight() const override { return 1; }
 
 protected:
+    // The ray through film position (x, y) in [-1, 1]^2, y up.
+    virtual Ray rayThrough(float x, float y) const = 0;
     // Film position of a jittered pixel sample in [-1, 1]^2, y up.
     void filmPosition(size_t pixel, float u0, float u1, float& x, float& y) const {
         x = (float(pixel % width_) + u0) / width_ * 2.0f - 1.0f;
@@ -55,18 +81,18 @@ protected:
 class PerspectiveSensor : public CameraSensor {
 public:
     PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width, int height);
-    Ray generateRay(size_t pixel, float u0, float u1) const override;
 
 private:
+    Ray rayThrough(float x, float y) const override;
     float tanHalfFovY_;
 };
 
 class OrthographicSensor : public CameraSensor {
 public:
     OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width, int height);
-    Ray generateRay(size_t pixel, float u0, float u1) const override;
 
 private:
+    Ray rayThrough(float x, float y) const override;
     float viewWidth_mm_;
 };
 

@@ -15,19 +15,34 @@ namespace pl {
 
 class Sensor;
 
+// The control variates printpt's walks can use (integrators/printpt.h).
+enum class ControlKind { HalfSpace, Wedge, Curved };
+constexpr int kControlKinds = 3;
+
 struct PathStats {
     uint64_t paths = 0;
     uint64_t scatterEvents = 0;  // real collisions that scattered
     uint64_t ballEvents = 0;     // of which sampled inside printpt's homogeneous balls
     uint64_t leaks = 0;          // rays inside that found no boundary (mesh not closed)
     uint64_t trapped = 0;        // paths ended after kMaxBoundaryBounces without scattering
+    uint64_t controlledWalks[kControlKinds] = {0, 0, 0};  // printpt's walks with a control, per ControlKind
     void operator+=(const PathStats& o) {
         paths += o.paths;
         scatterEvents += o.scatterEvents;
         ballEvents += o.ballEvents;
         leaks += o.leaks;
         trapped += o.trapped;
+        for (int k = 0; k < kControlKinds; ++k) controlledWalks[k] += o.controlledWalks[k];
     }
+};
+
+// One sample of one channel: its value, and the standard error it shares
+// with every other sample that used the same estimated quantity (printpt's
+// Monte Carlo control means, or the round-off of an exact one), which the
+// spread of the samples cannot show.
+struct ChannelSample {
+    float value = 0.0f;
+    float sharedError = 0.0f;
 };
 
 // Boundary events in a row, without scattering, after which a path counts
@@ -45,7 +60,7 @@ inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
 // The path an estimator traces for one channel, or for all three with the
 // chosen sampling: trace(path) returns the radiance it gathers.
 template <class Trace>
-float traceOneChannel(const Scene& scene, int channel, Trace&& trace) {
+auto traceOneChannel(const Scene& scene, int channel, Trace&& trace) {
     return trace(SingleChannelPath{&scene.medium->lut(channel), channel, scene.environment[channel]});
 }
 template <class Trace>
@@ -58,15 +73,12 @@ class Integrator {
 public:
     virtual ~Integrator() = default;
     // Radiance arriving along -ray.d at ray.o (a point outside the object).
-    virtual float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-                     PathStats& stats) const = 0;
+    virtual ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                             PathStats& stats) const = 0;
     // All three channels from one path: Hero (the driver draws the hero
     // channel uniformly) or Spectral sampling (channel_paths.h).
     virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
                       PathStats& stats) const = 0;
-    // A bound on the standard error that every pixel's estimate shares and
-    // the film's per-pixel errors do not see (printpt's control means).
-    virtual float sharedStandardError(int /*channel*/) const { return 0.0f; }
     // Called once before rendering the sensor's pixels in these channels
     // (single-channel passes): a chance to look at all entries first.
     virtual void prepare(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}

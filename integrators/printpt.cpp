@@ -11,6 +11,7 @@
 #include "core/sensors.h"
 #include "integrators/half_space_walk.h"
 #include "media/ball_walk.h"
+#include "media/slab_transport.h"
 
 namespace pl {
 
@@ -35,27 +36,31 @@ bool solve3x3(const double a[3][3], const double b[3], double x[3]) {
 
 }  // namespace
 
-float PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-                  PathStats& stats) const {
-    return traceOneChannel(scene_, channel, [&](const auto& path) { return trace(ray, path, medium, rng, stats); });
+ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                          PathStats& stats) const {
+    return traceOneChannel(scene_, channel, [&](const auto& path) {
+        Traced<float> t = trace(ray, path, medium, rng, stats);
+        return ChannelSample{t.L, t.sharedError};
+    });
 }
 
 RGB PrintPt::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
                    PathStats& stats) const {
     return traceThreeChannels(scene_, sampling, hero,
-                              [&](const auto& path) { return trace(ray, path, medium, rng, stats); });
+                              [&](const auto& path) { return trace(ray, path, medium, rng, stats).L; });
 }
 
 template <class Path>
-typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
-                                    PathStats& stats) const {
+PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, LabelMedium::Sampler& medium,
+                                                     Rng& rng, PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
-    typename Path::Value L{};
+    Traced<typename Path::Value> result;
+    typename Path::Value& L = result.L;
     auto entry = geometry.intersect(ray);
     if (!entry) {
         stats.paths += 1;
         path.addLight(L, 1.0f);
-        return L;
+        return result;
     }
     // The camera ray arrives from outside: Fresnel at the entry.
     Vec3f n = dot(ray.d, entry->ng) < 0 ? entry->ns : -entry->ns;
@@ -68,7 +73,7 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
     } else if (rng.uniform() < F) {
         stats.paths += 1;
         path.addLight(L, 1.0f);
-        return L;
+        return result;
     }
     const Ray inside = enteringRay(ray, *entry);
 
@@ -79,17 +84,19 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
     if constexpr (std::is_same_v<Path, SingleChannelPath>) walk = walkSingle_;
     else if constexpr (std::is_same_v<Path, HeroPath>) walk = walkHero_;
     else walk = walkSpectral_;
-    HalfSpace control;
-    float controlMean = 0.0f;
-    bool controlled = false;
+    std::optional<EntryControl> control;
     if constexpr (std::is_same_v<Path, SingleChannelPath>)
-        controlled = options_.controlVariate && !options_.nee &&
-                     controlForEntry(inside, path, medium, control, controlMean);
+        if (options_.controlVariate && !options_.nee) control = controlForEntry(inside, path, medium);
+    if (control) {
+        // Every branch adds the same mean: its error is shared, not averaged.
+        result.sharedError = transmitted * control->meanError;
+        stats.controlledWalks[int(control->kind)] += uint64_t(k);
+    }
     for (int b = 0; b < k; ++b) {
         // Each walk starts at throughput 1 (Russian roulette is relative to it).
         typename Path::Value Lb{};
         if constexpr (std::is_same_v<Path, SingleChannelPath>) {
-            if (controlled) Lb = walkWithControl(inside, path, control, medium, rng, stats) + controlMean;
+            if (control) Lb = walkWithControl(inside, path, control->region, medium, rng, stats) + control->mean;
             else Lb = (this->*walk)(inside, path, medium, rng, stats);
         } else {
             Lb = (this->*walk)(inside, path, medium, rng, stats);
@@ -98,7 +105,7 @@ typename Path::Value PrintPt::trace(Ray ray, const Path& path, LabelMedium::Samp
         else
             for (int c = 0; c < 3; ++c) L[c] += branchWeight * Lb[c];
     }
-    return L;
+    return result;
 }
 
 Ray PrintPt::enteringRay(const Ray& camera, const SurfaceHit& entry) const {
@@ -109,7 +116,8 @@ Ray PrintPt::enteringRay(const Ray& camera, const SurfaceHit& entry) const {
     return scene_.geometry->spawnRay(entry.p, entry.ng, d);
 }
 
-PrintPt::PrintPt(const Scene& scene, PrintPtOptions options) : scene_(scene), options_(options) {
+PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed)
+    : scene_(scene), options_(options), seed_(seed) {
     static std::atomic<uint64_t> instances{0};
     id_ = ++instances;
     // The walk is compiled once per combination of the switches it tests
@@ -282,63 +290,65 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
     return b.alive;
 }
 
-float PrintPt::sharedStandardError(int channel) const {
-    float worst = 0.0f;
-    for (size_t i = controlIndex(channel, 0, 0); i < controlIndex(channel + 1, 0, 0); ++i)
-        if (controlMean_[i].load(std::memory_order_acquire) != kControlUnknown)
-            worst = std::max(worst, controlStdErr_[i].load(std::memory_order_relaxed));
-    return worst * scene_.environment[channel];
-}
-
 int64_t PrintPt::controlMeanWalks(const ControlShape& shape) const {
     // The wedges and curved regions are many: a quarter (wedges) or a
     // 32nd (curved: a hundred or more pairs per channel on curved objects)
     // of the walks each; their shared error is still far below a pixel's.
-    if (shape.index() == 0) return options_.controlWalks;
-    return std::max<int64_t>(1024, options_.controlWalks / (shape.curveS >= 0 ? 32 : 4));
+    // (The half-space's mean is exact: no walks.)
+    if (shape.kind() == ControlKind::HalfSpace) return 0;
+    return std::max<int64_t>(1024, options_.controlWalks / (shape.kind() == ControlKind::Curved ? 32 : 4));
 }
 
-float PrintPt::controlMean(int channel, Label label, const ControlShape& shape) const {
+PrintPt::ControlMean PrintPt::controlMean(int channel, Label label, const ControlShape& shape) const {
     const size_t index = controlIndex(channel, label, shape.index());
     float mean = controlMean_[index].load(std::memory_order_acquire);
-    if (mean != kControlUnknown) return mean;
-    // First use: estimate it (the same bits whichever thread gets here
-    // first), kept from other render tiles while the estimate runs.
-    // The mean does not depend on sigma_t (it only scales the walk's
-    // lengths, the edge's distance and the curvatures included, which are
-    // in mean free paths): estimated at sigma_t = 1, seeded by what it
-    // depends on, so that materials and channels of equal albedo and g
-    // (white resin's three channels) share one estimate.
+    if (mean != kControlUnknown) return {mean, controlStdErr_[index].load(std::memory_order_relaxed)};
+    // First use: compute it (the same bits whichever thread gets here
+    // first). The mean does not depend on sigma_t (it only scales the
+    // walk's lengths, the edge's distance and the curvatures included,
+    // which are in mean free paths): computed at sigma_t = 1.
     const ChannelLut& lut = scene_.medium->lut(channel);
     HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 1.0f, lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
-    uint64_t seed = 0;
-    for (float v : {hs.albedo, hs.g, hs.etaOut}) {
-        uint32_t bits;
-        std::memcpy(&bits, &v, sizeof bits);
-        seed = mix64(seed ^ bits);
+    ControlMean m;
+    if (shape.index() == 0) {
+        // The half-space: exact, but for the solver's error and the float
+        // round-off of a sample's sum (a few ulps: 2^-21 of the value).
+        SlabEscape exact = slabEscape({hs.albedo, hs.g, scene_.ior});
+        m = {float(exact.top), float(std::max(exact.error, std::ldexp(exact.top, -21)))};
+    } else {
+        // Wedges and curved regions: Monte Carlo walks seeded by the
+        // render's seed and by what the mean depends on (materials and
+        // channels of equal albedo and g, white resin's three channels,
+        // share one estimate).
+        uint64_t seed = mix64(seed_ ^ 0x636f6e74726f6cULL);
+        for (float v : {hs.albedo, hs.g, hs.etaOut}) {
+            uint32_t bits;
+            std::memcpy(&bits, &v, sizeof bits);
+            seed = mix64(seed ^ bits);
+        }
+        seed = mix64(seed ^ uint64_t(shape.index()));
+        if (shape.edgeStep >= 0) {
+            hs.hasSide = true;
+            hs.sideNormal = {1, 0, 0};
+            hs.sideOrigin = {edgeDistance_mfp(shape.edgeStep), 0, 0};
+        } else {
+            // The pair in one order, whichever order the surface had.
+            hs.curved = true;
+            hs.axisS = {1, 0, 0};
+            hs.axisT = {0, 1, 0};
+            hs.kappaS_perMm = curvature_perMfp(std::max(shape.curveS, shape.curveT));
+            hs.kappaT_perMm = curvature_perMfp(std::min(shape.curveS, shape.curveT));
+        }
+        HalfSpaceMean estimate;
+        tbb::this_task_arena::isolate([&] {
+            estimate = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
+                                     controlMeanWalks(shape), seed);
+        });
+        m = {float(estimate.mean), float(estimate.standardError)};
     }
-    const int64_t walks = controlMeanWalks(shape);
-    if (shape.index() > 0) seed = mix64(seed ^ uint64_t(shape.index()));
-    if (shape.edgeStep >= 0) {
-        hs.hasSide = true;
-        hs.sideNormal = {1, 0, 0};
-        hs.sideOrigin = {edgeDistance_mfp(shape.edgeStep), 0, 0};
-    } else if (shape.curveS >= 0) {
-        // The pair in one order, whichever order the surface had.
-        hs.curved = true;
-        hs.axisS = {1, 0, 0};
-        hs.axisT = {0, 1, 0};
-        hs.kappaS_perMm = curvature_perMfp(std::max(shape.curveS, shape.curveT));
-        hs.kappaT_perMm = curvature_perMfp(std::min(shape.curveS, shape.curveT));
-    }
-    HalfSpaceMean m;
-    tbb::this_task_arena::isolate([&] {
-        m = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp), walks,
-                          seed);
-    });
-    controlStdErr_[index].store(float(m.standardError), std::memory_order_relaxed);
-    controlMean_[index].store(float(m.mean), std::memory_order_release);
-    return float(m.mean);
+    controlStdErr_[index].store(m.standardError, std::memory_order_relaxed);
+    controlMean_[index].store(m.mean, std::memory_order_release);
+    return m;
 }
 
 std::optional<PrintPt::Edge> PrintPt::findEdge(HalfSpace& control, float reach_mm, float ignore_mm) const {
@@ -387,8 +397,8 @@ int PrintPt::solidLabelAt(const Point3f& p) const {
     return scene_.medium->majorants().solidLabelAt(scene_.medium->voxelAt(p));
 }
 
-bool PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
-                              HalfSpace& control, float& mean) const {
+std::optional<PrintPt::EntryControl> PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path,
+                                                              LabelMedium::Sampler& medium) const {
     // The surface-voxel sensor sends the same ray for every sample of a
     // pixel, and a thread renders a pixel's samples one after another: the
     // decision (probes, fit, mean), a function of the entry and the channel
@@ -397,45 +407,46 @@ bool PrintPt::controlForEntry(const Ray& inside, const SingleChannelPath& path, 
         uint64_t integrator = 0;  // id_ of the integrator that made it; 0: none
         int channel = -1;
         Ray inside;
-        bool controlled = false;
-        HalfSpace control;
-        float mean = 0.0f;
+        std::optional<EntryControl> control;
     };
     thread_local Last last;
     auto equal = [](const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
     const bool same = last.integrator == id_ && last.channel == path.channel && equal(last.inside.o, inside.o) &&
                       equal(last.inside.d, inside.d);
     if (!same) {
+        last.control.reset();
+        HalfSpace region;
         Label label;
         ControlShape shape;
-        last.controlled = controlFor(inside, path, medium, last.control, label, shape);
-        if (last.controlled && entriesCounted_) {
+        bool controlled = controlFor(inside, path, medium, region, label, shape);
+        // Half-space means are exact and free; the others cost walks.
+        if (controlled && entriesCounted_ && shape.kind() != ControlKind::HalfSpace) {
             const uint32_t entries = controlEntries_[controlIndex(path.channel, label, shape.index())];
-            last.controlled = int64_t(entries) * options_.controlMeanWalksPerEntry >= controlMeanWalks(shape);
+            controlled = int64_t(entries) * options_.controlMeanWalksPerEntry >= controlMeanWalks(shape);
         }
-        if (last.controlled) last.mean = controlMean(path.channel, label, shape) * path.Le;
+        if (controlled) {
+            const ControlMean m = controlMean(path.channel, label, shape);
+            last.control = EntryControl{region, m.mean * path.Le, m.standardError * path.Le, shape.kind()};
+        }
         last.integrator = id_;
         last.channel = path.channel;
         last.inside = inside;
     }
-    control = last.control;
-    mean = last.mean;
-    return last.controlled;
+    return last.control;
 }
 
 void PrintPt::prepare(const Sensor& sensor, const std::vector<int>& channels) {
     if (!options_.controlVariate || options_.nee || options_.controlMeanWalksPerEntry <= 0) return;
-    // Every kEntryStride-th pixel's entry once per channel (the surface-voxel
-    // sensor's rays are the same for every sample; a camera's are taken
-    // through pixel centres): all entries would cost what the render's
-    // first sample pays for its decisions (7 % of a 1-spp render of the
-    // bone); every 8th, under 1 % of a 2-spp one. The counts, and so the
-    // decisions, do not depend on the thread order.
-    const size_t sampled = (sensor.pixelCount() + kEntryStride - 1) / kEntryStride;
-    parallelForTiles(sampled, 64, [&](size_t begin, size_t end) {
+    // The sensor's survey rays once per channel (Sensor::surveyRay: a fixed
+    // set whatever the image size, so that the decisions do not depend on
+    // it). The counts, and so the decisions, do not depend on the thread
+    // order.
+    const size_t surveyed = sensor.surveyRayCount();
+    const uint32_t weight = sensor.surveyRayWeight();
+    parallelForTiles(surveyed, 64, [&](size_t begin, size_t end) {
         LabelMedium::Sampler medium(*scene_.medium);
         for (size_t i = begin; i < end; ++i) {
-            const Ray camera = sensor.generateRay(i * kEntryStride, 0.5f, 0.5f);
+            const Ray camera = sensor.surveyRay(i);
             auto entry = scene_.geometry->intersect(camera);
             if (!entry) continue;
             const Ray inside = enteringRay(camera, *entry);
@@ -445,8 +456,7 @@ void PrintPt::prepare(const Sensor& sensor, const std::vector<int>& channels) {
                 Label label;
                 ControlShape shape;
                 if (!controlFor(inside, path, medium, control, label, shape)) continue;
-                controlEntries_[controlIndex(c, label, shape.index())].fetch_add(kEntryStride,
-                                                                                 std::memory_order_relaxed);
+                controlEntries_[controlIndex(c, label, shape.index())].fetch_add(weight, std::memory_order_relaxed);
             }
         }
     });

@@ -30,9 +30,11 @@
 //    the other leaves, or the surface walk collides in another material),
 //    they add the same light; after that the half-space walk finishes on
 //    its own (as the mean of `controlContinuations` independent walks).
-//    The estimate is f - g + E[g], with E[g] estimated once per
-//    (albedo, g) with `controlWalks` cheap walks
-//    (integrators/half_space_walk.h). Only for entry materials that scatter
+//    The estimate is f - g + E[g]. For the half-space E[g] is exact: a
+//    deterministic radiative-transfer solve (media/slab_transport.h); for
+//    wedges and curved regions it is estimated with Monte Carlo walks
+//    seeded by the render's seed, and its standard error goes into every
+//    sample that uses it (ChannelSample::sharedError). Only for entry materials that scatter
 //    (albedo in [kAbsorbingAlbedo, 0.999]) and where probes find the resin
 //    one material and the surface flat over the walk's reach (controlFor);
 //    within `controlEdgeReach` of a right-angled edge the control is the
@@ -40,8 +42,9 @@
 //    the edge; under convex curved surfaces (`controlCurved`) it is the
 //    region under a paraboloid fitted to the surface, with the mean
 //    tabulated over its two principal curvatures; before a render the
-//    sensor's entries are counted per control, and controls that too few
-//    entries share for the cost of their means are left out;
+//    sensor's view is surveyed (a fixed set of rays, whatever its
+//    resolution) and wedges and curved regions that too little of it
+//    shares for the cost of their means are left out;
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
 //    drawn from a von Mises-Fisher lobe around the surface normal there, the
@@ -85,6 +88,8 @@ struct PrintPtOptions {
     // kAbsorbingAlbedo in the path's channel: the inks and black).
     float rrThresholdAbsorbing = 1.0f;
     bool controlVariate = true;  // measured: docs/performance.md
+    // Monte Carlo walks behind the mean of a wedge (a quarter of this) or
+    // of a curved region (a 32nd); the half-space's mean is exact.
     int64_t controlWalks = int64_t(1) << 17;
     float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
     // Where that fails: a second try over this reach, if the body is a
@@ -106,34 +111,43 @@ struct PrintPtOptions {
     // of the remainder's expectation: less of its variance, more walks;
     // measured in docs/performance.md).
     int controlContinuations = 4;
-    // Before a render, the sensor's entries are counted by the control they
-    // would use; a control (material, channel, shape) is used only where
-    // its mean's walks come to at most this many per entry that shares it
-    // (flat: 2,048 entries, wedges 512, curved 64): otherwise they cost more
-    // than it saves (measured: docs/performance.md). 0: every control is used.
+    // Before a render, the sensor's survey rays (Sensor::surveyRay) are
+    // counted by the control they would use; a wedge or curved control
+    // (material, channel, shape) whose mean is a Monte Carlo estimate is
+    // used only where its mean's walks come to at most this many per
+    // surveyed entry that shares it (wedges: 512 entries, curved: 64):
+    // otherwise they cost more than it saves (measured:
+    // docs/performance.md). 0: every control is used. Half-space controls
+    // have exact means and always run.
     int64_t controlMeanWalksPerEntry = 64;
 };
 
 class PrintPt : public Integrator {
 public:
-    PrintPt(const Scene& scene, PrintPtOptions options);
+    // seed: the render's, which seeds the Monte Carlo control means.
+    PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed);
 
-    float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-             PathStats& stats) const override;
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                     PathStats& stats) const override;
     // One path for three channels: as Li, without next-event estimation
     // (single-channel only), and with ball walks for hero sampling only.
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
               PathStats& stats) const override;
-    // The largest standard error of the control means used in the channel.
-    float sharedStandardError(int channel) const override;
-    // Counts the sensor's entries per control (controlMeanWalksPerEntry).
+    // Counts the sensor's survey entries per control (controlMeanWalksPerEntry).
     void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
 
 private:
+    // A sample's radiance and the standard error it shares through an
+    // estimated control mean (zero without one).
+    template <class Value>
+    struct Traced {
+        Value L{};
+        float sharedError = 0.0f;
+    };
     // Camera ray to entry, Fresnel there, and the branches' walks.
     template <class Path>
-    typename Path::Value trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
-                               PathStats& stats) const;
+    Traced<typename Path::Value> trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
+                                       PathStats& stats) const;
     // Radiance leaving the object back along -ray.d, for a ray that starts
     // inside, with the path's throughput.
     template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
@@ -155,12 +169,19 @@ private:
     // The refracted ray that enters the object at `entry` (a hit of the
     // camera ray from outside).
     Ray enteringRay(const Ray& camera, const SurfaceHit& entry) const;
-    // The half-space control of a branch entering along `inside`, and its
-    // mean; false where the entry material has none, or where too few
-    // entries share it (controlMeanWalksPerEntry). Remembered per thread for the
+    // The control of the branches entering along `inside`: its region, its
+    // mean and the mean's standard error (per unit environment radiance
+    // times the path's), and which kind it is.
+    struct EntryControl {
+        HalfSpace region;
+        float mean = 0.0f, meanError = 0.0f;
+        ControlKind kind = ControlKind::HalfSpace;
+    };
+    // None where the entry material has none, or where too few entries
+    // share it (controlMeanWalksPerEntry). Remembered per thread for the
     // last entry and channel (the samples of a pixel repeat them).
-    bool controlForEntry(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
-                         HalfSpace& control, float& mean) const;
+    std::optional<EntryControl> controlForEntry(const Ray& inside, const SingleChannelPath& path,
+                                                LabelMedium::Sampler& medium) const;
     // The side face of a right-angled edge within reach_mm of the control's
     // entry, set as its second plane at the tabulated distance nearest the
     // edge's; none (and the control left a half-space) where there is no
@@ -179,6 +200,9 @@ private:
             return edgeStep >= 0 ? 1 + edgeStep
                    : curveS >= 0 ? 1 + kEdgeSteps + curvaturePairIndex(curveS, curveT)
                                  : 0;
+        }
+        ControlKind kind() const {
+            return edgeStep >= 0 ? ControlKind::Wedge : curveS >= 0 ? ControlKind::Curved : ControlKind::HalfSpace;
         }
     };
     // The control that fits the entry along `inside`: its region, the
@@ -228,21 +252,25 @@ private:
 
     const Scene& scene_;
     PrintPtOptions options_;
+    uint64_t seed_;
     uint64_t id_ = 0;  // this integrator among all made in the process (controlForEntry)
     // Per channel, label and shape (ControlShape::index): the control's
-    // mean, estimated at first use, and its standard error.
+    // mean, computed at first use, and its standard error (for the
+    // half-space, the solver's error and float round-off).
     static constexpr float kControlUnknown = -1.0f;
     static constexpr int kControlShapes = 1 + kEdgeSteps + kCurvaturePairs;
     static size_t controlIndex(int channel, Label label, int shape) {
         return (size_t(channel) * 256 + label) * kControlShapes + size_t(shape);
     }
-    float controlMean(int channel, Label label, const ControlShape& shape) const;
+    struct ControlMean {
+        float mean, standardError;
+    };
+    ControlMean controlMean(int channel, Label label, const ControlShape& shape) const;
     // The walks that estimate the mean of a control of this shape.
     int64_t controlMeanWalks(const ControlShape& shape) const;
     std::unique_ptr<std::atomic<float>[]> controlMean_, controlStdErr_;
-    // Entries of the sensor per control, estimated by prepare() from every
-    // kEntryStride-th pixel; until then every control is used.
-    static constexpr uint32_t kEntryStride = 8;
+    // Entries of the sensor's survey per control, counted by prepare();
+    // until then every control is used.
     std::unique_ptr<std::atomic<uint32_t>[]> controlEntries_;
     bool entriesCounted_ = false;
 };

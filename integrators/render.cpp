@@ -13,7 +13,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                    const std::vector<uint32_t>& pixels, uint32_t firstSample, uint32_t count, RenderResult& result) {
     auto start = std::chrono::steady_clock::now();
     std::unique_ptr<Integrator> integrator;
-    if (settings.integrator == "printpt") integrator = std::make_unique<PrintPt>(scene, settings.printpt);
+    if (settings.integrator == "printpt") integrator = std::make_unique<PrintPt>(scene, settings.printpt, settings.seed);
     else integrator = std::make_unique<VolPath>(scene, settings.volpath);
 
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
@@ -44,7 +44,8 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
                     if (channel >= 0) {
-                        result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
+                        const ChannelSample sample = integrator->Li(ray, channel, medium, rng, stats);
+                        result.film.add(p, channel, sample.value, sample.sharedError);
                         continue;
                     }
                     int hero = int((s + heroOffset) % 3);
@@ -69,8 +70,6 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     }
     throwIfInterrupted();
     progress.finish();
-    for (int c = 0; c < 3; ++c)
-        result.sharedStandardError[c] = std::max(result.sharedStandardError[c], integrator->sharedStandardError(c));
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

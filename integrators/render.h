@@ -38,9 +38,6 @@ struct RenderResult {
     // Per channel, the time of its own pass (separate passes only; zero
     // for three channels from one path).
     RGB passSeconds{0, 0, 0};
-    // Standard error shared by every pixel, outside the film's per-pixel
-    // errors (Integrator::sharedStandardError); add it when judging a mean.
-    RGB sharedStandardError{0, 0, 0};
 };
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);

@@ -5,9 +5,9 @@
 
 namespace pl {
 
-float VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-                  PathStats& stats) const {
-    return traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); });
+ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                          PathStats& stats) const {
+    return {traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); })};
 }
 
 RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,

@@ -19,8 +19,8 @@ class VolPath : public Integrator {
 public:
     VolPath(const Scene& scene, VolPathOptions options) : scene_(scene), options_(options) {}
 
-    float Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-             PathStats& stats) const override;
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                     PathStats& stats) const override;
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
               PathStats& stats) const override;
 

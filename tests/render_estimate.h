@@ -15,19 +15,21 @@ struct Estimate {
     RGB mean, standardError;
 };
 
-// Mean over all pixels, with the standard error of that mean (including
-// the error every pixel shares).
+// Mean over all pixels, with the standard error of that mean: the pixels'
+// independent errors in quadrature, and the errors they share through
+// estimated control means as if all were one (a bound).
 inline Estimate meanOf(const RenderResult& r) {
     Estimate e{};
     size_t n = r.film.pixelCount();
     for (int c = 0; c < 3; ++c) {
-        double sum = 0, var = 0;
+        double sum = 0, var = 0, shared = 0;
         for (size_t p = 0; p < n; ++p) {
             sum += r.film.mean(p, c);
-            var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+            var += double(r.film.spreadError(p, c)) * r.film.spreadError(p, c);
+            shared += r.film.sharedError(p, c);
         }
         e.mean[c] = float(sum / n);
-        double shared = r.sharedStandardError[c];
+        shared /= double(n);
         e.standardError[c] = float(std::sqrt(var / (double(n) * n) + shared * shared));
     }
     return e;

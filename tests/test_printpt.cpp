@@ -70,6 +70,13 @@ double summedVariance(const RenderResult& r, const Sensor& sensor, int c) {
     return v;
 }
 
+// The pixels' shared errors (estimated control means) in channel c, summed.
+double sharedErrorSum(const RenderResult& r, int c) {
+    double s = 0;
+    for (size_t p = 0; p < r.film.pixelCount(); ++p) s += r.film.sharedError(p, c);
+    return s;
+}
+
 TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
     for (float ior : {1.0f, 1.5f}) {
         Scene scene = mixedScene(ior);
@@ -214,7 +221,8 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         if (shell) continue;
         // The same samples without the control, and with half-space controls
         // only (no wedges at the edges): summed per-pixel variances.
-        EXPECT_GT(with.sharedStandardError[2], 0.0f);
+        EXPECT_GT(with.stats.controlledWalks[int(ControlKind::Wedge)], 0u);
+        EXPECT_GT(sharedErrorSum(with, 2), 0.0);
         s.printpt.controlEdgeReach = 0.0f;
         RenderResult halfSpaces = render(scene, sensor, s);
         expectAgreement(volpath, test::meanOf(halfSpaces), "control variate, half-spaces only");
@@ -280,18 +288,18 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     auto radiance = [&](const PrintPt& pt, LabelMedium::Sampler& medium, size_t p, int s, int c) {
         Rng rng = Rng::forPath(5, p, uint64_t(s), uint64_t(c));
         PathStats stats;
-        return pt.Li(sensor.generateRay(p, 0.5f, 0.5f), c, medium, rng, stats);
+        return pt.Li(sensor.generateRay(p, 0.5f, 0.5f), c, medium, rng, stats).value;
     };
     std::vector<float> byPixel(pixels * kSamples * 3), bySample(byPixel.size());
     {
-        PrintPt pt(scene, options);
+        PrintPt pt(scene, options, 5);
         LabelMedium::Sampler medium(*scene.medium);
         for (size_t p = 0; p < pixels; ++p)
             for (int c = 0; c < 3; ++c)
                 for (int s = 0; s < kSamples; ++s) byPixel[(p * kSamples + s) * 3 + c] = radiance(pt, medium, p, s, c);
     }
     {
-        PrintPt pt(scene, options);  // another integrator: nothing kept from the first counts
+        PrintPt pt(scene, options, 5);  // another integrator: nothing kept from the first counts
         LabelMedium::Sampler medium(*scene.medium);
         for (int s = 0; s < kSamples; ++s)
             for (int c = 0; c < 3; ++c)
@@ -300,11 +308,11 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     for (size_t i = 0; i < byPixel.size(); ++i) ASSERT_EQ(byPixel[i], bySample[i]) << "sample " << i;
 }
 
-// Before a render the sensor's entries are counted per control, and a
-// control whose mean's walks would come to more than
+// Before a render the sensor's survey entries are counted per control, and
+// a wedge or curved control whose mean's walks would come to more than
 // controlMeanWalksPerEntry per entry that shares it is not used: where
-// none qualifies, the render is the one without the control variate, bit
-// for bit, and no mean is estimated; where all do, the controls run.
+// none qualifies, the render is the one with half-space controls only, bit
+// for bit; where all do, they run. Half-space controls (exact means) always run.
 TEST(PrintPt, ControlsTooFewEntriesShareAreLeftOut) {
     Scene scene = whiteBall();
     SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), everyNthSurfaceVoxel(scene.medium->grid(), 7));
@@ -314,26 +322,31 @@ TEST(PrintPt, ControlsTooFewEntriesShareAreLeftOut) {
     s.seed = 9;
     s.printpt.controlWalks = 1 << 12;
     s.printpt.controlCurvedThickness = 1.0f;
-    auto usesControls = [](const RenderResult& r) {
-        return r.sharedStandardError[0] + r.sharedStandardError[1] + r.sharedStandardError[2] > 0.0f;
+    auto costlyControls = [](const RenderResult& r) {
+        return r.stats.controlledWalks[int(ControlKind::Wedge)] + r.stats.controlledWalks[int(ControlKind::Curved)];
     };
     s.printpt.controlMeanWalksPerEntry = 0;
-    EXPECT_TRUE(usesControls(render(scene, sensor, s)));
+    RenderResult all = render(scene, sensor, s);
+    EXPECT_GT(costlyControls(all), 0u);
+    EXPECT_GT(all.stats.controlledWalks[int(ControlKind::HalfSpace)], 0u);
     // One walk per entry: a curved control (1,024 walks) would need 1,024
-    // entries, the flat one 4,096; this sensor has ~1,000 pixels in all.
+    // entries; this sensor has ~1,000 pixels in all.
     ASSERT_LT(sensor.pixelCount(), 1024u);
     s.printpt.controlMeanWalksPerEntry = 1;
     RenderResult leftOut = render(scene, sensor, s);
-    EXPECT_FALSE(usesControls(leftOut));
-    s.printpt.controlVariate = false;
-    RenderResult without = render(scene, sensor, s);
+    EXPECT_EQ(costlyControls(leftOut), 0u);
+    EXPECT_EQ(leftOut.stats.controlledWalks[int(ControlKind::HalfSpace)],
+              all.stats.controlledWalks[int(ControlKind::HalfSpace)]);
+    s.printpt.controlCurved = false;
+    s.printpt.controlEdgeReach = 0.0f;
+    RenderResult halfSpacesOnly = render(scene, sensor, s);
     for (size_t p = 0; p < sensor.pixelCount(); ++p)
-        for (int c = 0; c < 3; ++c) ASSERT_EQ(leftOut.film.mean(p, c), without.film.mean(p, c)) << p;
+        for (int c = 0; c < 3; ++c) ASSERT_EQ(leftOut.film.mean(p, c), halfSpacesOnly.film.mean(p, c)) << p;
     // The default keeps the controls that enough entries share.
     s.printpt = PrintPtOptions{};
     s.printpt.controlWalks = 1 << 12;
     s.printpt.controlCurvedThickness = 1.0f;
-    EXPECT_TRUE(usesControls(render(scene, sensor, s)));
+    EXPECT_GT(costlyControls(render(scene, sensor, s)), 0u);
 }
 
 // Under a curved surface the control is the region below a paraboloid
