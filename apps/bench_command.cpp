@@ -168,9 +168,11 @@ struct Errors {
 
 constexpr uint32_t kMinSelfSpp = 4;
 
-// The film's own variance estimate as the expected squared error (its
-// standard errors include what samples share through printpt's estimated
-// control means). The relative MSE
+// The film's own variance estimate as the expected squared error: per
+// pixel the samples' spread (unbiased, so its sum over pixels is too,
+// where a pixel's own may miss rare events; the per-pixel standard error,
+// Film::standardError, is conservative there) and what samples share
+// through printpt's estimated control means. The relative MSE
 // divides by relativeTo(p, c), a squared mean: with the film's own means,
 // whose noise differs from one configuration to the next, dark pixels
 // weigh in by how noisy each render's estimate of their darkness is, and a
@@ -181,7 +183,8 @@ Errors selfVariance(const Film& film, RelativeTo&& relativeTo) {
     size_t n = film.pixelCount();
     for (size_t p = 0; p < n; ++p)
         for (int c = 0; c < 3; ++c) {
-            double mSq = relativeTo(p, c), v = double(film.standardError(p, c)) * film.standardError(p, c);
+            double mSq = relativeTo(p, c), v = std::pow(double(film.spreadError(p, c)), 2) +
+                                               std::pow(double(film.sharedError(p, c)), 2);
             se[c] += v;
             rel += v / (mSq + 1e-3);
         }

@@ -3,6 +3,7 @@
 // renders it, in sample order, so results do not depend on scheduling.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -12,17 +13,40 @@
 
 namespace pl {
 
+// One sample of one channel as an estimator returns it: its value, and
+// what its error has that the spread of a pixel's samples cannot show.
+//  - sharedError: the standard error it shares with every other sample
+//    that used the same estimated quantity (printpt's Monte Carlo control
+//    means, the round-off of an exact one);
+//  - poolKey, residual: a sample whose randomness is concentrated in rare
+//    events (printpt's control-variate residual f - g, zero until the two
+//    walks part) names the kind it belongs to (>= 0) and its random part;
+//    the second moment of the residuals is pooled over every sample of
+//    that kind in the render, since a pixel's own few samples may not have
+//    met one of the events.
+struct ChannelSample {
+    float value = 0.0f;
+    float sharedError = 0.0f;
+    int32_t poolKey = -1;  // -1: none
+    float residual = 0.0f;
+};
+
 class Film {
 public:
     explicit Film(size_t pixelCount = 0) : acc_(pixelCount) {}
 
     size_t pixelCount() const { return acc_.size(); }
     void add(size_t pixel, int channel, float value) { addGroup(pixel, channel, value, 1); }
-    // A sample with a standard error that it shares with other samples
-    // (an estimated quantity they all use): added to the pixel's error.
-    void add(size_t pixel, int channel, float value, float sharedError) {
-        addGroup(pixel, channel, value, 1);
-        acc_[pixel][channel].sharedErrorSum += sharedError;
+    void add(size_t pixel, int channel, const ChannelSample& sample) {
+        addGroup(pixel, channel, sample.value, 1);
+        Accumulator& a = acc_[pixel][channel];
+        a.sharedErrorSum += sample.sharedError;
+        if (sample.poolKey >= 0) {
+            // A pixel's samples share its entry: the first key stands for all.
+            if (a.poolKey < 0) a.poolKey = sample.poolKey;
+            a.residualSqSum += double(sample.residual) * sample.residual;
+            a.pooledSamples += 1;
+        }
     }
     // A group of k samples that must count as one unit for the variance:
     // samples drawn together by stratification (hero channels going round
@@ -34,6 +58,11 @@ public:
         a.count += k;
         a.units += 1;
     }
+    // Pools the residuals' second moments per key over all pixels (in pixel
+    // order: the same bits whatever the threads) and sets every pooled
+    // pixel's pooledError. Call after adding samples.
+    void poolResiduals();
+
     uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
     float mean(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
@@ -49,6 +78,15 @@ public:
         double var = std::max(0.0, (a.sumSq - a.count * m * m) / (double(a.count) * (a.units - 1)));
         return float(std::sqrt(var));
     }
+    // The standard error of the mean from the pooled second moment of its
+    // samples' residuals (poolResiduals); 0 where none was pooled.
+    float pooledError(size_t pixel, int channel) const { return acc_[pixel][channel].pooledError; }
+    // The error independent of other pixels': the larger of the spread and
+    // the pooled estimate (both estimate it; the pooled one also where the
+    // pixel's samples missed the rare events).
+    float independentError(size_t pixel, int channel) const {
+        return std::max(spreadError(pixel, channel), pooledError(pixel, channel));
+    }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
     // one estimated quantity). Pixels that used the same one share it too.
@@ -56,9 +94,9 @@ public:
         const Accumulator& a = acc_[pixel][channel];
         return a.count ? float(a.sharedErrorSum / a.count) : 0.0f;
     }
-    // The whole standard error of the mean: spread and shared parts.
+    // The whole standard error of the mean: independent and shared parts.
     float standardError(size_t pixel, int channel) const {
-        return std::hypot(spreadError(pixel, channel), sharedError(pixel, channel));
+        return std::hypot(independentError(pixel, channel), sharedError(pixel, channel));
     }
     RGB meanRGB(size_t pixel) const {
         return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
@@ -71,8 +109,12 @@ private:
     struct Accumulator {
         double sum = 0, sumSq = 0;
         double sharedErrorSum = 0;  // of the samples' shared standard errors
-        uint32_t count = 0;  // samples
-        uint32_t units = 0;  // independent units (samples or groups)
+        double residualSqSum = 0;   // of the pooled samples' residuals squared
+        uint32_t count = 0;         // samples
+        uint32_t units = 0;         // independent units (samples or groups)
+        uint32_t pooledSamples = 0;
+        int32_t poolKey = -1;
+        float pooledError = 0;
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;
 };

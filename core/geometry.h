@@ -51,6 +51,16 @@ public:
 
     // Closest hit along the ray with t in [tMin, tMax].
     std::optional<SurfaceHit> intersect(const Ray& ray, float tMax = 1e30f, float tMin = 0.0f) const;  // from max(tMin, ray.tMin)
+    // Closest hit, up to tMax, of a ray that starts inside the object (at a
+    // collision in the medium). Round-off can put such a start on the
+    // surface, which the ray then meets at t ~ 0 from outside: that hit is
+    // passed over (the start is inside), not taken for a way out.
+    std::optional<SurfaceHit> intersectFromInside(const Ray& ray, float tMax = 1e30f) const {
+        auto hit = intersect(ray, tMax);
+        if (hit && hit->t <= rayEpsilon_mm_ && dot(ray.d, hit->ng) < 0)
+            hit = intersect(ray, tMax, hit->t + rayEpsilon_mm_);
+        return hit;
+    }
     // Closest point on the mesh within radius_mm of p.
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
     // Whether any triangle intersects the axis-aligned box [lo, hi].

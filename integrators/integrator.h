@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/film.h"
 #include "core/fresnel.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
@@ -36,14 +37,7 @@ struct PathStats {
     }
 };
 
-// One sample of one channel: its value, and the standard error it shares
-// with every other sample that used the same estimated quantity (printpt's
-// Monte Carlo control means, or the round-off of an exact one), which the
-// spread of the samples cannot show.
-struct ChannelSample {
-    float value = 0.0f;
-    float sharedError = 0.0f;
-};
+
 
 // Boundary events in a row, without scattering, after which a path counts
 // as trapped (lossless total internal reflection) and ends.

@@ -40,7 +40,7 @@ ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rn
                           PathStats& stats) const {
     return traceOneChannel(scene_, channel, [&](const auto& path) {
         Traced<float> t = trace(ray, path, medium, rng, stats);
-        return ChannelSample{t.L, t.sharedError};
+        return ChannelSample{t.L, t.sharedError, t.controlKey, t.residual};
     });
 }
 
@@ -90,14 +90,20 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
     if (control) {
         // Every branch adds the same mean: its error is shared, not averaged.
         result.sharedError = transmitted * control->meanError;
+        result.controlKey = control->key;
         stats.controlledWalks[int(control->kind)] += uint64_t(k);
     }
     for (int b = 0; b < k; ++b) {
         // Each walk starts at throughput 1 (Russian roulette is relative to it).
         typename Path::Value Lb{};
         if constexpr (std::is_same_v<Path, SingleChannelPath>) {
-            if (control) Lb = walkWithControl(inside, path, control->region, medium, rng, stats) + control->mean;
-            else Lb = (this->*walk)(inside, path, medium, rng, stats);
+            if (control) {
+                const float difference = walkWithControl(inside, path, control->region, medium, rng, stats);
+                result.residual += branchWeight * difference;
+                Lb = difference + control->mean;
+            } else {
+                Lb = (this->*walk)(inside, path, medium, rng, stats);
+            }
         } else {
             Lb = (this->*walk)(inside, path, medium, rng, stats);
         }
@@ -185,9 +191,9 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             ff = path.track(medium, ray, 1e30f, rng);
             // A collision nearer than the boundary can be needs no query.
             deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
-            if (!deep) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
+            if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
-            hit = geometry.intersect(ray);
+            hit = geometry.intersectFromInside(ray);
             if (hit) ff = path.track(medium, ray, hit->t, rng);
         }
         if (!hit && !(kMediumFirst && ff.scattered)) {
@@ -426,7 +432,8 @@ std::optional<PrintPt::EntryControl> PrintPt::controlForEntry(const Ray& inside,
         }
         if (controlled) {
             const ControlMean m = controlMean(path.channel, label, shape);
-            last.control = EntryControl{region, m.mean * path.Le, m.standardError * path.Le, shape.kind()};
+            last.control = EntryControl{region, m.mean * path.Le, m.standardError * path.Le, shape.kind(),
+                                        int32_t(controlIndex(path.channel, label, shape.index()))};
         }
         last.integrator = id_;
         last.channel = path.channel;
@@ -710,7 +717,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
         FreeFlight ff = medium.freeFlightAtDepth(ray, 1e30f, path.channel, opticalDepth);
         deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
         std::optional<SurfaceHit> hit;
-        if (!deep) hit = geometry.intersect(ray, ff.scattered ? ff.t_mm : 1e30f);
+        if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);
         const bool controlCollides = halfSpaceFlight(control, c, opticalDepth, Lc);
         if ((!hit && !ff.scattered) || (hit && dot(ray.d, hit->ng) < 0)) {
             stats.leaks += 1;  // as walk(): treated as leaving
@@ -790,7 +797,7 @@ float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int ch
     if (!(uPrune < lobe.probability)) return 0.0f;  // pruned; the phase path's weight knows
     DirectionSample ds = sampleVMF(lobe.axis, lobe.kappa, u0, u1);
     // The boundary straight along the sampled direction, and what gets there.
-    auto hit = scene_.geometry->intersect({x, ds.d});
+    auto hit = scene_.geometry->intersectFromInside({x, ds.d});
     if (!hit || dot(ds.d, hit->ng) <= 0) return 0.0f;
     float T = medium.transmittance({x, ds.d}, hit->t, channel, {options_.neeRouletteDepth, &rng});
     if (T <= 0.0f) return 0.0f;

@@ -137,12 +137,15 @@ public:
     void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
 
 private:
-    // A sample's radiance and the standard error it shares through an
-    // estimated control mean (zero without one).
+    // A sample's radiance and, with a control, the standard error it shares
+    // through the control's mean, the control's key (controlIndex) and the
+    // sample's residual (its walks' f - g, weighted as in L).
     template <class Value>
     struct Traced {
         Value L{};
         float sharedError = 0.0f;
+        int32_t controlKey = -1;
+        float residual = 0.0f;
     };
     // Camera ray to entry, Fresnel there, and the branches' walks.
     template <class Path>
@@ -176,6 +179,7 @@ private:
         HalfSpace region;
         float mean = 0.0f, meanError = 0.0f;
         ControlKind kind = ControlKind::HalfSpace;
+        int32_t key = 0;  // controlIndex
     };
     // None where the entry material has none, or where too few entries
     // share it (controlMeanWalksPerEntry). Remembered per thread for the

@@ -44,8 +44,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
                     if (channel >= 0) {
-                        const ChannelSample sample = integrator->Li(ray, channel, medium, rng, stats);
-                        result.film.add(p, channel, sample.value, sample.sharedError);
+                        result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
                         continue;
                     }
                     int hero = int((s + heroOffset) % 3);
@@ -70,6 +69,7 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
     }
     throwIfInterrupted();
     progress.finish();
+    result.film.poolResiduals();
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 

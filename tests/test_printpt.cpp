@@ -63,10 +63,13 @@ std::vector<SurfaceVoxel> everyNthSurfaceVoxel(const LabelGrid& g, int n) {
     return some;
 }
 
-// The per-pixel variances of channel c, summed over the sensor's pixels.
+// The per-pixel variances of channel c, summed over the sensor's pixels:
+// the samples' spread (unbiased, and so is its sum; Film::standardError
+// is conservative per pixel) and what they share through control means.
 double summedVariance(const RenderResult& r, const Sensor& sensor, int c) {
     double v = 0;
-    for (size_t p = 0; p < sensor.pixelCount(); ++p) v += std::pow(double(r.film.standardError(p, c)), 2);
+    for (size_t p = 0; p < sensor.pixelCount(); ++p)
+        v += std::pow(double(r.film.spreadError(p, c)), 2) + std::pow(double(r.film.sharedError(p, c)), 2);
     return v;
 }
 
@@ -347,6 +350,47 @@ TEST(PrintPt, ControlsTooFewEntriesShareAreLeftOut) {
     s.printpt.controlWalks = 1 << 12;
     s.printpt.controlCurvedThickness = 1.0f;
     EXPECT_GT(costlyControls(render(scene, sensor, s)), 0u);
+}
+
+// Which controls run is decided from the sensor's survey, a fixed set of
+// rays whatever the image size: a 16 x 16 and a 96 x 96 view of the ball
+// make the same decisions (and estimate the same means), so the same ray
+// with the same random numbers gives the same bits under both; and the
+// Monte Carlo means follow the render's seed.
+TEST(PrintPt, ControlDecisionsDoNotDependOnTheImageSize) {
+    Scene scene = whiteBall();
+    PrintPtOptions options;
+    options.controlWalks = 1 << 15;  // curved means of 1,024 walks,
+    options.controlMeanWalksPerEntry = 4;  // run where 256 surveyed entries share them
+    options.controlCurvedThickness = 1.0f;
+    CameraPose pose;
+    pose.position_mm = {2.5f, 2.5f, 10.0f};
+    pose.lookAt_mm = {2.5f, 2.5f, 2.5f};
+    OrthographicSensor small(pose, 5.0f, 16, 16), large(pose, 5.0f, 96, 96);
+    auto radiance = [&](const Sensor& survey, uint64_t seed, const std::vector<Ray>& rays, PathStats& stats) {
+        PrintPt pt(scene, options, seed);
+        pt.prepare(survey, {0, 1, 2});
+        LabelMedium::Sampler medium(*scene.medium);
+        std::vector<float> values;
+        for (size_t i = 0; i < rays.size(); ++i)
+            for (int c = 0; c < 3; ++c) {
+                Rng rng = Rng::forPath(3, i, 0, uint64_t(c));
+                values.push_back(pt.Li(rays[i], c, medium, rng, stats).value);
+            }
+        return values;
+    };
+    std::vector<Ray> rays;
+    for (size_t p = 0; p < small.pixelCount(); ++p) rays.push_back(small.generateRay(p, 0.5f, 0.5f));
+    PathStats smallStats, largeStats, otherSeedStats;
+    const std::vector<float> a = radiance(small, 1, rays, smallStats), b = radiance(large, 1, rays, largeStats);
+    EXPECT_GT(smallStats.controlledWalks[int(ControlKind::Curved)], 0u);
+    for (int k = 0; k < kControlKinds; ++k) EXPECT_EQ(smallStats.controlledWalks[k], largeStats.controlledWalks[k]);
+    for (size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "ray " << i / 3 << " channel " << i % 3;
+    // Another render seed: other curved means, so other values where they ran.
+    const std::vector<float> c = radiance(small, 2, rays, otherSeedStats);
+    size_t differ = 0;
+    for (size_t i = 0; i < a.size(); ++i) differ += a[i] != c[i];
+    EXPECT_GT(differ, 0u);
 }
 
 // Under a curved surface the control is the region below a paraboloid

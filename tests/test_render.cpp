@@ -128,6 +128,30 @@ TEST(AbsorbingSlab, BeerLambertBehindFresnelBoundary) {
     }
 }
 
+// Samples whose randomness hides in rare events (printpt's control
+// residuals) pool their residuals' second moment per key: a pixel whose own
+// samples all came out equal still gets the error its key's samples show,
+// the spread where it is larger, and the shared error on top.
+TEST(Film, PoolsResidualsPerKeyAndAddsSharedErrors) {
+    Film f(3);
+    for (int s = 0; s < 4; ++s) {
+        f.add(0, 0, ChannelSample{0.5f, 0.0f, 7, 0.0f});  // never met a rare event
+        f.add(1, 0, ChannelSample{s == 0 ? 2.5f : 0.5f, 0.0f, 7, s == 0 ? 2.0f : 0.0f});
+        f.add(2, 0, ChannelSample{0.5f, 0.001f, 9, 0.0f});
+    }
+    f.poolResiduals();
+    EXPECT_EQ(f.spreadError(0, 0), 0.0f);
+    // Key 7: 8 samples, residuals squared summing to 4: 0.5 per sample; a
+    // mean of 4 samples: sqrt(4 x 0.5) / 4.
+    EXPECT_FLOAT_EQ(f.pooledError(0, 0), std::sqrt(2.0f) / 4.0f);
+    EXPECT_FLOAT_EQ(f.standardError(0, 0), std::sqrt(2.0f) / 4.0f);
+    EXPECT_FLOAT_EQ(f.standardError(1, 0), std::max(f.spreadError(1, 0), f.pooledError(1, 0)));
+    EXPECT_GT(f.spreadError(1, 0), f.pooledError(1, 0));
+    // Key 9 met no event: only the shared error.
+    EXPECT_EQ(f.pooledError(2, 0), 0.0f);
+    EXPECT_FLOAT_EQ(f.standardError(2, 0), 0.001f);
+}
+
 TEST(Film, GroupsOfStratifiedSamplesAreTheUnitsOfTheVariance) {
     Film f(3);
     for (float v : {1.0f, 2.0f, 3.0f, 4.0f}) f.add(0, 0, v);
