@@ -83,11 +83,13 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         json.expectOnlyKeys(sen, "sensor", {"type", "position", "look_at", "up", "fov_deg", "width_mm", "resolution"});
         s.pose.position_mm = json.vec3(sen, "position", "sensor");
         s.pose.lookAt_mm = json.vec3(sen, "look_at", "sensor");
-        s.pose.up = sen.contains("up") ? json.vec3(sen, "up", "sensor") : Vec3f(0, 0, 1);
         Vec3f fwd = s.pose.lookAt_mm - s.pose.position_mm;
         if (!(length(fwd) > 0)) json.fail("sensor.look_at", "must differ from sensor.position");
+        // Default: +z up, or +y for views along the z axis (top-down or bottom-up).
+        const bool alongZ = std::abs(fwd.z) > 0.999f * length(fwd);
+        s.pose.up = sen.contains("up") ? json.vec3(sen, "up", "sensor") : alongZ ? Vec3f(0, 1, 0) : Vec3f(0, 0, 1);
         if (!(length(cross(fwd, s.pose.up)) > 1e-6f * length(fwd) * length(s.pose.up)))
-            json.fail("sensor.up", "must not be parallel to the viewing direction");
+            json.fail("sensor.up", "must not be parallel to the viewing direction (position to look_at)");
         if (s.type == "perspective") {
             s.fovY_deg = float(json.number(sen, "fov_deg", "sensor", 30.0));
             if (!(s.fovY_deg > 0 && s.fovY_deg < 180)) json.fail("sensor.fov_deg", "must be in (0, 180)");

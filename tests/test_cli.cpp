@@ -334,8 +334,9 @@ TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     EXPECT_NE(csv.find(",1.00\n"), std::string::npos) << csv;  // volpath against itself
     EXPECT_TRUE(fs::exists(s.dir / "b.md"));
     EXPECT_NE(readText(s.dir / "b.svg").find("<polyline"), std::string::npos);
-    // A reference of another scene is refused.
-    s.scene["sensor"] = {{"type", "orthographic"}, {"position", {1, 1, 5}}, {"look_at", {1, 1, 0}}, {"up", {0, 1, 0}},
+    // A reference of another scene is refused (a top-down view: the
+    // default up, +y along z, is valid for it).
+    s.scene["sensor"] = {{"type", "orthographic"}, {"position", {1, 1, 5}}, {"look_at", {1, 1, 0}},
                          {"width_mm", 1.0}, {"resolution", {8, 8}}};
     r = printlight("bench " + s.write().string() + " --reference " + ref.string(), s.dir);
     EXPECT_EQ(r.exitCode, 1);

@@ -59,12 +59,31 @@ inline double chiSquareZ(const std::vector<double>& observed, const std::vector<
 // z below this: no evidence against the distribution (one-sided p ~ 1e-5).
 constexpr double kChiSquareZLimit = 4.3;
 
+// The folders freshTempDir made, removed when the test process ends.
+class TempDirs {
+public:
+    ~TempDirs() {
+        std::error_code ignored;
+        for (const auto& dir : dirs_) std::filesystem::remove_all(dir, ignored);
+    }
+    void add(const std::filesystem::path& dir) { dirs_.push_back(dir); }
+
+private:
+    std::vector<std::filesystem::path> dirs_;
+};
+inline TempDirs& tempDirs() {
+    static TempDirs dirs;
+    return dirs;
+}
+
+// An empty folder in the system's temporary directory, removed at exit.
 inline std::filesystem::path freshTempDir(const std::string& name) {
     // Per process: ctest runs test cases in parallel processes.
     auto dir = std::filesystem::temp_directory_path() /
                ("printlight_test_" + name + "_" + std::to_string(::getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
+    tempDirs().add(dir);
     return dir;
 }
 
