@@ -51,6 +51,17 @@ inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
     return r;
 }
 
+// The refracted ray that enters the object at `entry`, a hit of the camera
+// ray from outside (straight in along the geometric normal where
+// refraction fails).
+inline Ray enteringRay(const Scene& scene, const Ray& camera, const SurfaceHit& entry) {
+    Vec3f n = dot(camera.d, entry.ng) < 0 ? entry.ns : -entry.ns;
+    auto t = refract(camera.d, n, scene.ior);
+    Vec3f d = t ? *t : camera.d;
+    if (dot(d, entry.ng) >= 0) d = -entry.ng;
+    return scene.geometry->spawnRay(entry.p, entry.ng, d);
+}
+
 // The path an estimator traces for one channel, or for all three with the
 // chosen sampling: trace(path) returns the radiance it gathers.
 template <class Trace>
