@@ -136,12 +136,16 @@ SurfacePrediction Predictor::predict() {
     rs.showProgress = false;
     const Sensor& sensor = *state_->sensor;
     RenderResult r{Film(sensor.pixelCount()), {}, 0};
+    // One integrator for all rounds: its census and means are made once.
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(state_->scene, sensor, rs, controlMeans_);
+    r.seconds += secondsSince(t0);
     if (!adaptive_.enabled) {
-        renderSamples(state_->scene, sensor, rs, {}, 0, rs.spp, r);
+        renderSamples(*integrator, state_->scene, sensor, rs, {}, 0, rs.spp, r);
     } else {
         const AdaptiveSampling& a = adaptive_;
         uint32_t done = std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp);
-        renderSamples(state_->scene, sensor, rs, {}, 0, done, r);
+        renderSamples(*integrator, state_->scene, sensor, rs, {}, 0, done, r);
         // Voxels that stop stay stopped (their film does not change), so all
         // active voxels share one sample count: rounds are deterministic.
         while (done < a.maxSpp && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds)) {
@@ -151,7 +155,7 @@ SurfacePrediction Predictor::predict() {
                     active.push_back(uint32_t(p));
             if (active.empty()) break;
             uint32_t more = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
-            renderSamples(state_->scene, sensor, rs, active, done, more, r);
+            renderSamples(*integrator, state_->scene, sensor, rs, active, done, more, r);
             done += more;
         }
     }

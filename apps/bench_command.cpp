@@ -345,9 +345,6 @@ int benchCommand(const std::vector<std::string>& argv) {
     // relative MSE (one denominator for all renders).
     std::vector<Film> selfFilms;
     for (const std::string& name : names) {
-        // Each configuration estimates its control means itself, as a render
-        // of it alone would (they are kept for the process otherwise).
-        forgetHalfSpaceMeans();
         RenderSettings s = chosen[name];
         s.spp = 1;
         s.seed = 1;

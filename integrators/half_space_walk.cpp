@@ -1,10 +1,6 @@
 #include "integrators/half_space_walk.h"
 
 #include <algorithm>
-#include <future>
-#include <map>
-#include <mutex>
-#include <tuple>
 #include <vector>
 
 #include <tbb/parallel_for.h>
@@ -159,33 +155,18 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
     return {mean, std::sqrt(variance / n)};
 }
 
-namespace {
-
-using MeanKey = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
-std::mutex meansMutex;
-// Each mean once: the first thread to ask estimates it, later ones wait for
-// its result instead of estimating the same walks again.
-std::map<MeanKey, std::shared_future<HalfSpaceMean>> knownMeans;
-
-}  // namespace
-
-void forgetHalfSpaceMeans() {
-    std::lock_guard<std::mutex> lock(meansMutex);
-    knownMeans.clear();
-}
-
-HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
-                            uint64_t seed) {
+HalfSpaceMean HalfSpaceMeans::get(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
+                                  uint64_t seed) {
     const float side_mm = hs.hasSide ? dot(hs.sideOrigin - hs.origin, hs.sideNormal) : -1.0f;
     const float kappaS = hs.curved ? hs.kappaS_perMm : -1.0f, kappaT = hs.curved ? hs.kappaT_perMm : -1.0f;
-    const MeanKey key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
+    const Key key{hs.sigmaT_perMm, hs.albedo, hs.g, hs.etaOut, side_mm, kappaS, kappaT, roulette.threshold,
                   roulette.cap, ballMinMfp, walks, seed};
     std::promise<HalfSpaceMean> promise;
     std::shared_future<HalfSpaceMean> result;
     bool first = false;
     {
-        std::lock_guard<std::mutex> lock(meansMutex);
-        auto [it, inserted] = knownMeans.try_emplace(key);
+        std::lock_guard<std::mutex> lock(mutex_);
+        auto [it, inserted] = known_.try_emplace(key);
         if (inserted) it->second = promise.get_future().share();
         result = it->second;
         first = inserted;

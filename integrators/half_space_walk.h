@@ -20,7 +20,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <future>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "core/rng.h"
 #include "core/vecmath.h"
@@ -140,13 +144,21 @@ struct HalfSpaceMean {
 // for any thread count.
 HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
                                     int64_t walks, uint64_t seed);
-// The same, kept for the life of the process (a render in rounds builds
-// its integrator once per round).
-HalfSpaceMean halfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
-                            uint64_t seed);
-// Empties that store (the bench, so that each configuration pays for its
-// own means, as a render of it alone would).
-void forgetHalfSpaceMeans();
+// Means of control regions, each estimated once and kept for the life of
+// this object (an integrator's, or a caller's that renders the same
+// materials many times: the predictor's iterations). Thread-safe: a
+// second thread asking for a mean being estimated waits for it, and
+// different means are estimated side by side.
+class HalfSpaceMeans {
+public:
+    HalfSpaceMean get(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
+                      uint64_t seed);
+
+private:
+    using Key = std::tuple<float, float, float, float, float, float, float, float, float, float, int64_t, uint64_t>;
+    std::mutex mutex_;
+    std::map<Key, std::shared_future<HalfSpaceMean>> known_;
+};
 
 // The rotation taking unit vector a to unit vector b (a != -b), applied to v.
 inline Vec3f rotateAtoB(const Vec3f& a, const Vec3f& b, const Vec3f& v) {

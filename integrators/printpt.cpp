@@ -97,8 +97,9 @@ PrintPtOptions forScene(PrintPtOptions options, const Scene& scene) {
 
 }  // namespace
 
-PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed)
-    : scene_(scene), options_(forScene(options, scene)), control_(scene, options_, seed) {
+PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
+                 std::shared_ptr<HalfSpaceMeans> controlMeans)
+    : scene_(scene), options_(forScene(options, scene)), control_(scene, options_, seed, std::move(controlMeans)) {
     // The walk is compiled once per combination of the switches it tests
     // in its loop; the scene picks one here and the loop pays for no branch.
     walkSingle_ = selectWalk<SingleChannelPath>();

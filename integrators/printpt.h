@@ -51,8 +51,10 @@ namespace pl {
 
 class PrintPt : public Integrator {
 public:
-    // seed: the render's, which seeds the Monte Carlo control means.
-    PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed);
+    // seed: the render's, which seeds the Monte Carlo control means;
+    // controlMeans: where they are kept (ControlVariate; none: its own).
+    PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
+            std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                      PathStats& stats) const override;

@@ -9,18 +9,32 @@
 
 namespace pl {
 
-void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                   const std::vector<uint32_t>& pixels, uint32_t firstSample, uint32_t count, RenderResult& result) {
-    auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Integrator> integrator;
-    if (settings.integrator == "printpt") integrator = std::make_unique<PrintPt>(scene, settings.printpt, settings.seed);
-    else integrator = std::make_unique<VolPath>(scene, settings.volpath);
+namespace {
 
+// Passes: one per channel, or one (marked -1) for all three.
+std::vector<int> passesOf(const RenderSettings& settings) {
+    return rendersChannelsInOnePass(settings) ? std::vector<int>{-1} : settings.channels;
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                           std::shared_ptr<HalfSpaceMeans> controlMeans) {
+    std::unique_ptr<Integrator> integrator;
+    if (settings.integrator == "printpt")
+        integrator = std::make_unique<PrintPt>(scene, settings.printpt, settings.seed, std::move(controlMeans));
+    else
+        integrator = std::make_unique<VolPath>(scene, settings.volpath);
+    if (!rendersChannelsInOnePass(settings)) integrator->prepare(sensor, passesOf(settings));
+    return integrator;
+}
+
+void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
+                   const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
+                   uint32_t count, RenderResult& result) {
+    auto start = std::chrono::steady_clock::now();
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
-    const bool onePass = rendersChannelsInOnePass(settings);
-    // Passes: one per channel, or one (marked -1) for all three.
-    const std::vector<int> passes = onePass ? std::vector<int>{-1} : settings.channels;
-    if (!onePass) integrator->prepare(sensor, passes);
+    const std::vector<int> passes = passesOf(settings);
     ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
     std::mutex statsMutex;
     for (int channel : passes) {
@@ -44,11 +58,11 @@ void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSetting
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
                     if (channel >= 0) {
-                        result.film.add(p, channel, integrator->Li(ray, channel, medium, rng, stats));
+                        result.film.add(p, channel, integrator.Li(ray, channel, medium, rng, stats));
                         continue;
                     }
                     int hero = int((s + heroOffset) % 3);
-                    RGB L = integrator->LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
+                    RGB L = integrator.LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
                     for (int c = 0; c < 3; ++c) group[c] += L[c];
                     ++inGroup;
                     const bool stratified = settings.channelSampling == ChannelSampling::Hero;
@@ -84,7 +98,10 @@ bool rendersChannelsInOnePass(const RenderSettings& settings) {
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
     RenderResult result{Film(sensor.pixelCount()), {}, 0};
-    renderSamples(scene, sensor, settings, {}, 0, settings.spp, result);
+    const auto start = std::chrono::steady_clock::now();
+    std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
+    result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    renderSamples(*integrator, scene, sensor, settings, {}, 0, settings.spp, result);
     return result;
 }
 

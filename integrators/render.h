@@ -4,6 +4,7 @@
 // render asks for fewer channels): then one pass per channel.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,15 @@ struct RenderResult {
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
+// The integrator the settings name, made for this scene and sensor and
+// ready to render them (printpt has surveyed the sensor): it lives as long
+// as they do, across rounds of renderSamples. controlMeans: where printpt
+// keeps its Monte Carlo control means (a caller that renders the same
+// materials many times may share one cache between integrators; none:
+// the integrator's own).
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                           std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+
 // Adds samples [firstSample, firstSample + count) of the listed pixels (all
 // if `pixels` is empty) to result.film, for every channel of the settings.
 // Sample s of pixel p is the same path whichever call renders it, so a
@@ -49,7 +59,8 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);
 
-void renderSamples(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                   const std::vector<uint32_t>& pixels, uint32_t firstSample, uint32_t count, RenderResult& result);
+void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
+                   const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
+                   uint32_t count, RenderResult& result);
 
 }  // namespace pl

@@ -31,10 +31,12 @@ bool solve3x3(const double a[3][3], const double b[3], double x[3]) {
 
 }  // namespace
 
-ControlVariate::ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed)
-    : scene_(scene), options_(options), seed_(seed) {
-    static std::atomic<uint64_t> instances{0};
-    id_ = ++instances;
+ControlVariate::ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed,
+                               std::shared_ptr<HalfSpaceMeans> monteCarloMeans)
+    : scene_(scene),
+      options_(options),
+      seed_(seed),
+      monteCarloMeans_(monteCarloMeans ? std::move(monteCarloMeans) : std::make_shared<HalfSpaceMeans>()) {
     const size_t controls = key(3, 0, 0);
     means_.reset(new std::atomic<float>[controls]);
     meanErrors_.reset(new std::atomic<float>[controls]);
@@ -97,7 +99,7 @@ ControlVariate::ControlMean ControlVariate::meanOf(int channel, Label label, con
         }
         HalfSpaceMean estimate;
         tbb::this_task_arena::isolate([&] {
-            estimate = halfSpaceMean(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
+            estimate = monteCarloMeans_->get(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
                                      meanWalks(shape), seed);
         });
         m = {float(estimate.mean), float(estimate.standardError)};
@@ -160,16 +162,10 @@ std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& 
     // pixel, and a thread renders a pixel's samples one after another: the
     // decision (probes, fit, mean), a function of the entry and the channel
     // alone, is kept for the last entry each thread saw.
-    struct Last {
-        uint64_t integrator = 0;  // id_ of the integrator that made it; 0: none
-        int channel = -1;
-        Ray inside;
-        std::optional<EntryControl> control;
-    };
-    thread_local Last last;
+    LastEntry& last = lastEntry_.local();
     auto equal = [](const Vec3f& a, const Vec3f& b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
-    const bool same = last.integrator == id_ && last.channel == path.channel && equal(last.inside.o, inside.o) &&
-                      equal(last.inside.d, inside.d);
+    const bool same =
+        last.channel == path.channel && equal(last.inside.o, inside.o) && equal(last.inside.d, inside.d);
     if (!same) {
         last.control.reset();
         HalfSpace region;
@@ -186,7 +182,6 @@ std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& 
             last.control = EntryControl{region, m.mean * path.Le, m.standardError * path.Le, shape.kind(),
                                         int32_t(key(path.channel, label, shape.index()))};
         }
-        last.integrator = id_;
         last.channel = path.channel;
         last.inside = inside;
     }

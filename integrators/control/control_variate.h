@@ -37,6 +37,8 @@
 #include <optional>
 #include <vector>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "integrators/channel_paths.h"
 #include "integrators/half_space_walk.h"
 #include "integrators/integrator.h"
@@ -48,8 +50,11 @@ class Sensor;
 
 class ControlVariate {
 public:
-    // seed: the render's, which seeds the Monte Carlo means.
-    ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed);
+    // seed: the render's, which seeds the Monte Carlo means; those are kept
+    // in monteCarloMeans (a cache the caller may share between integrators
+    // of the same materials; none: this control's own).
+    ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed,
+                   std::shared_ptr<HalfSpaceMeans> monteCarloMeans = nullptr);
 
     // The control of the branches entering along `inside`: its region, its
     // mean and the mean's standard error (per unit environment radiance
@@ -118,7 +123,15 @@ private:
     const Scene& scene_;
     PrintPtOptions options_;
     uint64_t seed_;
-    uint64_t id_ = 0;  // this control among all made in the process (forEntry's memo)
+    std::shared_ptr<HalfSpaceMeans> monteCarloMeans_;
+    // The decision for the last entry each thread saw (forEntry): the
+    // surface-voxel sensor repeats a pixel's ray for every sample.
+    struct LastEntry {
+        int channel = -1;  // -1: none yet
+        Ray inside;
+        std::optional<EntryControl> control;
+    };
+    mutable tbb::enumerable_thread_specific<LastEntry> lastEntry_;
     // Per channel, label and shape (Shape::index): the control's
     // mean, computed at first use, and its standard error (for the
     // half-space, the solver's error and float round-off).
