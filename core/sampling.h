@@ -65,6 +65,10 @@ struct DistanceSample {
     float t;
     float pdf;
 };
+// An Exp(1) variate from u in [0, 1): the optical depth a free flight
+// crosses before its collision.
+inline float sampleOpticalDepth(float u) { return -std::log(1.0f - u); }
+
 inline DistanceSample sampleExponential(float sigma, float u) {
     float t = -std::log1p(-u) / sigma;
     return {t, sigma * std::exp(-sigma * t)};

@@ -116,7 +116,7 @@ float finishHalfSpaceWalk(const HalfSpace& hs, HalfSpaceWalker w, bool atCollisi
             w.d = b.direction;
             continue;
         }
-        float opticalDepth = -std::log(1.0f - rng.uniform());
+        float opticalDepth = sampleOpticalDepth(rng.uniform());
         if (halfSpaceFlight(hs, w, opticalDepth, light)) {
             collisions += 1;
             reflections = 0;

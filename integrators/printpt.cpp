@@ -326,7 +326,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             }
         }
         // One optical depth for both flights.
-        float opticalDepth = -std::log(1.0f - rng.uniform());
+        float opticalDepth = sampleOpticalDepth(rng.uniform());
         FreeFlight ff = medium.freeFlightAtDepth(ray, 1e30f, path.channel, opticalDepth);
         deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
         std::optional<SurfaceHit> hit;

@@ -31,7 +31,7 @@ BallWalk walkInBall(const Vec3f& w0, float radius_mm, float sigmaT_perMm, float 
     BallWalk out;
     Vec3f p(0, 0, 0), w = w0;
     for (;;) {
-        float t = -std::log(1.0f - rng.uniform()) * invSigmaT;
+        float t = sampleOpticalDepth(rng.uniform()) * invSigmaT;
         Vec3f q = p + w * t;
         if (dot(q, q) >= r2) break;
         p = q;

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "core/rng.h"
+#include "core/sampling.h"
 #include "media/dda.h"
 #include "media/majorant_grid.h"
 #include "media/materials.h"
@@ -122,7 +123,7 @@ FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
         const float invMaj = 1.0f / sigmaMaj;
         // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
         auto nextTentative = [&](float from) PL_ALWAYS_INLINE {
-            if (tauLeft < 0.0f) tauLeft = -std::log(1.0f - rng.uniform());
+            if (tauLeft < 0.0f) tauLeft = sampleOpticalDepth(rng.uniform());
             float t = from + tauLeft * invMaj;
             tauLeft = t >= tEnd ? tauLeft - (tEnd - from) * sigmaMaj : -1.0f;
             return t;
@@ -166,7 +167,7 @@ FreeFlight globalDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& 
     if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t, tEnd)) return {};
     const float invMaj = 1.0f / sigmaMaj;
     for (;;) {
-        t -= std::log(1.0f - rng.uniform()) * invMaj;
+        t += sampleOpticalDepth(rng.uniform()) * invMaj;
         if (t >= tEnd) return {};
         Label l = labelAt(clampToBox(ray.voxelAt(t), frame.indexMin, fmax));
         if (rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) return FreeFlight::collision(t, l);
@@ -200,7 +201,7 @@ FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& fr
         const int sole = maj.soleLabel(brick);
         if (sole >= 0) {
             // One material: the majorants are its sigma_t, every collision is real.
-            float t = tStart - std::log(1.0f - rng.uniform()) * invMaj;
+            float t = tStart + sampleOpticalDepth(rng.uniform()) * invMaj;
             if (t >= tEnd) {
                 flew(tEnd);
                 return false;
@@ -224,7 +225,7 @@ FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& fr
         };
         float t = tStart;
         for (;;) {
-            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            t += sampleOpticalDepth(rng.uniform()) * invMaj;
             if (t >= tEnd) {
                 flew(tEnd);
                 foldNulls();
@@ -269,7 +270,7 @@ FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& fra
         if (sole < 0) brickVoxels(brick, frame, lo, hi);
         float t = tStart;
         for (;;) {
-            t -= std::log(1.0f - rng.uniform()) * invMaj;
+            t += sampleOpticalDepth(rng.uniform()) * invMaj;
             if (t >= tEnd) return false;
             Label l = sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), lo, hi));
             RGB sigma{luts[0].sigmaT_perMm[l], luts[1].sigmaT_perMm[l], luts[2].sigmaT_perMm[l]};
