@@ -168,19 +168,16 @@ std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& 
         last.channel == path.channel && equal(last.inside.o, inside.o) && equal(last.inside.d, inside.d);
     if (!same) {
         last.control.reset();
-        HalfSpace region;
-        Label label;
-        Shape shape;
-        bool controlled = fit(inside, path, medium, region, label, shape);
+        std::optional<Fit> f = fit(inside, path, medium);
         // Half-space means are exact and free; the others cost walks.
-        if (controlled && surveyed_ && shape.kind() != ControlKind::HalfSpace) {
-            const uint32_t entries = entries_[key(path.channel, label, shape.index())];
-            controlled = int64_t(entries) * options_.controlMeanWalksPerEntry >= meanWalks(shape);
+        if (f && surveyed_ && f->shape.kind() != ControlKind::HalfSpace) {
+            const uint32_t entries = entries_[key(path.channel, f->label, f->shape.index())];
+            if (int64_t(entries) * options_.controlMeanWalksPerEntry < meanWalks(f->shape)) f.reset();
         }
-        if (controlled) {
-            const ControlMean m = meanOf(path.channel, label, shape);
-            last.control = EntryControl{region, m.mean * path.Le, m.standardError * path.Le, shape.kind(),
-                                        int32_t(key(path.channel, label, shape.index()))};
+        if (f) {
+            const ControlMean m = meanOf(path.channel, f->label, f->shape);
+            last.control = EntryControl{f->region, m.mean * path.Le, m.standardError * path.Le, f->shape.kind(),
+                                        int32_t(key(path.channel, f->label, f->shape.index()))};
         }
         last.channel = path.channel;
         last.inside = inside;
@@ -205,32 +202,32 @@ void ControlVariate::survey(const Sensor& sensor, const std::vector<int>& channe
             const Ray inside = enteringRay(scene_, camera, *entry);
             for (int c : channels) {
                 SingleChannelPath path{&scene_.medium->lut(c), c, scene_.environment[c]};
-                HalfSpace control;
-                Label label;
-                Shape shape;
-                if (!fit(inside, path, medium, control, label, shape)) continue;
-                entries_[key(c, label, shape.index())].fetch_add(weight, std::memory_order_relaxed);
+                if (std::optional<Fit> f = fit(inside, path, medium))
+                    entries_[key(c, f->label, f->shape.index())].fetch_add(weight, std::memory_order_relaxed);
             }
         }
     });
     surveyed_ = true;
 }
 
-bool ControlVariate::fit(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium,
-                         HalfSpace& control, Label& label, Shape& shape) const {
+std::optional<ControlVariate::Fit> ControlVariate::fit(const Ray& inside, const SingleChannelPath& path,
+                                                       LabelMedium::Sampler& medium) const {
     // Cheapest first: under a halftone the entry's brick holds several resins.
-    if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return false;
+    if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return std::nullopt;
     // The plane goes through the first point along the ray where the
     // medium can scatter: the mesh and the voxels' edges do not line up, and
     // a skin of void voxels inside the mesh would otherwise shift the two
     // walks' collisions apart by its thickness.
     FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
-    if (!first.scattered) return false;
+    if (!first.scattered) return std::nullopt;
     const Label l = first.label;
     const ChannelLut& lut = *path.lut;
     // Absorbing resin ends walks by itself; a walk in albedo near 1 would
     // make the control's mean slow to estimate.
-    if (lut.albedo[l] < PrintPtOptions::kAbsorbingAlbedo || lut.albedo[l] > 0.999f) return false;
+    if (lut.albedo[l] < PrintPtOptions::kAbsorbingAlbedo || lut.albedo[l] > 0.999f) return std::nullopt;
+    Fit result;
+    HalfSpace& control = result.region;
+    Shape& shape = result.shape;
     control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
 
     // Where another material, a corner, a thin part or a curved surface lies
@@ -245,8 +242,7 @@ bool ControlVariate::fit(const Ray& inside, const SingleChannelPath& path, Label
     const float mfp_mm = 1.0f / control.sigmaT_perMm;
     const float diffusion_mm = mfp_mm / std::sqrt(3.0f * (1.0f - control.albedo) * (1.0f - control.g));
     const float reach_mm = options_.controlProbe * diffusion_mm;
-    label = l;
-    shape = {};
+    result.label = l;
     const bool onlyMaterial = materialBelow(inside, l, reach_mm, control);
     bool fits = onlyMaterial && flatFits(inside, reach_mm, diffusion_mm, control, shape);
     // Curved surfaces fail the flat probes: the region under a paraboloid
@@ -263,7 +259,8 @@ bool ControlVariate::fit(const Ray& inside, const SingleChannelPath& path, Label
             fits = flatFits(inside, shortReach_mm, diffusion_mm, control, shape);
         }
     }
-    return fits;
+    if (!fits) return std::nullopt;
+    return result;
 }
 
 bool ControlVariate::materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const {

@@ -100,9 +100,13 @@ private:
         }
     };
     // The control that fits the entry along `inside`: its region, the
-    // entry material and the tabulated shape; false where none fits.
-    bool fit(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium, HalfSpace& control,
-             Label& label, Shape& shape) const;
+    // entry material and the tabulated shape; none where none fits.
+    struct Fit {
+        HalfSpace region;
+        Label label = 0;
+        Shape shape;
+    };
+    std::optional<Fit> fit(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium) const;
     // Whether the bricks sampled below the entry, over reach_mm, hold only
     // material l (or void).
     bool materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const;
