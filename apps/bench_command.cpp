@@ -30,7 +30,6 @@
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
-#include "io/printpt_settings.h"
 #include "io/scene_io.h"
 
 namespace pl {

@@ -1,8 +1,13 @@
-// printpt's switches and their defaults (integrators/printpt.h says what
-// each does; docs/scene-format.md lists the scene keys).
+// printpt's switches: the struct holds them and their defaults, and
+// printPtParameters() declares each once by its scene-file name
+// (render.<key>, docs/scene-format.md), with its range and what it does,
+// for the scene parser and bench's "printpt/key=value" configurations.
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
 
 namespace pl {
 
@@ -60,5 +65,27 @@ struct PrintPtOptions {
     // have exact means and always run.
     int64_t controlMeanWalksPerEntry = 64;
 };
+
+// One switch by its scene-file name: the field it sets, its range and
+// what it does. Booleans take any value (non-zero: on); integer fields
+// whole numbers only.
+struct PrintPtParameter {
+    const char* name;
+    std::variant<bool PrintPtOptions::*, int PrintPtOptions::*, int64_t PrintPtOptions::*, float PrintPtOptions::*>
+        field;
+    double min = 0, max = 0;
+    bool minOpen = false;    // (min, max] instead of [min, max]
+    const char* rangeText;   // what a value out of range is told ("must be ...")
+    const char* doc;
+    enum class Kind { Boolean, Integer, Number };
+    Kind kind() const;
+};
+
+const std::vector<PrintPtParameter>& printPtParameters();
+
+// Sets the switch `name` (booleans: value != 0). Returns what is wrong with
+// the value ("must be in (0, 1]"), or "" if it was set; throws
+// std::invalid_argument for a name that is not a parameter.
+std::string setPrintPtOption(PrintPtOptions& options, const std::string& name, double value);
 
 }  // namespace pl

@@ -8,7 +8,6 @@
 #include "io/json_util.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
-#include "io/printpt_settings.h"
 
 namespace pl {
 
@@ -116,7 +115,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
                                          "reentry", "majorants"};
-        for (const PrintPtKey& k : printPtKeys()) keys.push_back(k.name);
+        for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (r.integrator != "volpath" && r.integrator != "printpt")
@@ -141,13 +140,14 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
             json.fail("render.majorants", "global is a single-channel tracker: it needs channel_sampling separate");
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
-        for (const PrintPtKey& k : printPtKeys()) {
-            if (!ren.contains(k.name)) continue;
-            double value = k.kind == PrintPtKey::Kind::Boolean   ? double(json.boolean(ren, k.name, "render", false))
-                           : k.kind == PrintPtKey::Kind::Integer ? double(json.integer(ren, k.name, "render"))
-                                                                 : json.number(ren, k.name, "render");
-            std::string problem = setPrintPtOption(r.printpt, k.name, value);
-            if (!problem.empty()) json.fail(std::string("render.") + k.name, problem);
+        for (const PrintPtParameter& p : printPtParameters()) {
+            if (!ren.contains(p.name)) continue;
+            using Kind = PrintPtParameter::Kind;
+            double value = p.kind() == Kind::Boolean   ? double(json.boolean(ren, p.name, "render", false))
+                           : p.kind() == Kind::Integer ? double(json.integer(ren, p.name, "render"))
+                                                       : json.number(ren, p.name, "render");
+            std::string problem = setPrintPtOption(r.printpt, p.name, value);
+            if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
         }
         if (r.integrator == "printpt" && r.volpath.reentry)
             json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
