@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/progress.h"
+#include "integrators/registry.h"
 #include "io/input_error.h"
 #include "io/scene_io.h"
 
@@ -21,7 +22,7 @@ Predictor::Predictor(const SceneDescription& desc, const RenderSettings& setting
     : state_(std::make_unique<State>()), settings_(settings) {
     if (desc.sensor.type != "surface_voxels")
         throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
-    SceneNeeds needs = SceneNeeds::of(settings);
+    SceneNeeds needs = sceneNeedsOf(settings);
     state_->scene = loadScene(desc, needs);
     // The render command's sensor checks (mesh and grid match, memory).
     state_->surfaceVoxels = labels().surfaceVoxels();

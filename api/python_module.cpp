@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include "api/predictor.h"
+#include "integrators/registry.h"
 #include "io/scene_io.h"
 
 namespace py = pybind11;
@@ -109,7 +110,8 @@ PYBIND11_MODULE(printlight, m) {
                       [](Predictor& p, uint64_t v) { p.settings().seed = v; })
         .def_property("integrator", [](Predictor& p) { return p.settings().integrator; },
                       [](Predictor& p, const std::string& v) {
-                          if (v != "volpath" && v != "printpt") throw std::invalid_argument("integrator must be volpath or printpt");
+                          if (!findIntegratorKind(v))
+                              throw std::invalid_argument("integrator must be " + integratorNames());
                           p.settings().integrator = v;
                       })
         .def_property("channels", [](Predictor& p) { return channelNames(p.settings().channels); },

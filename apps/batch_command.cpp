@@ -11,6 +11,7 @@
 #include "apps/code_fingerprint.h"
 #include "core/progress.h"
 #include "core/result_comparison.h"
+#include "integrators/registry.h"
 #include "io/batch_manifest.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
@@ -36,8 +37,8 @@ SceneDescription describeJob(const BatchJob& job, uint64_t seedOffset) {
     desc.render.seed = job.seed + seedOffset;
     if (job.integrator) desc.render.integrator = *job.integrator;
     if (job.channels) desc.render.channels = *job.channels;
-    if (desc.render.integrator == "printpt" && desc.render.volpath.reentry)
-        throw InputError(job.sceneFile.string(), "printpt does not trace re-entry; the scene asks for \"reentry\": true");
+    if (std::string why = integratorKindOf(desc.render).refusal(desc.render); !why.empty())
+        throw InputError(job.sceneFile.string(), why);
     return desc;
 }
 
@@ -133,7 +134,7 @@ int batchCommand(const std::vector<std::string>& argv) {
         const BatchJob& job = manifest.jobs[j];
         SceneDescription& desc = descs[j];
         auto t0 = std::chrono::steady_clock::now();
-        Scene scene = loadScene(desc, SceneNeeds::of(desc.render));
+        Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
         std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
         desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
         RenderResult result = render(scene, *sensor, desc.render);

@@ -27,6 +27,7 @@
 #include "apps/arguments.h"
 #include "core/progress.h"
 #include "integrators/half_space_walk.h"
+#include "integrators/registry.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
@@ -279,13 +280,13 @@ int benchCommand(const std::vector<std::string>& argv) {
             throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
         }
         chosen[n] = *s;
-        needs |= SceneNeeds::of(*s);
+        needs |= sceneNeedsOf(*s);
     }
     // The reference: many samples of the trusted estimator (volpath by default).
     RenderSettings reference = base;
     reference.integrator = args.value("--integrator").value_or("volpath");
     auto makeRefPath = args.value("--make-reference");
-    if (makeRefPath) needs |= SceneNeeds::of(reference);
+    if (makeRefPath) needs |= sceneNeedsOf(reference);
     Scene scene = loadScene(desc, needs);
     std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
 

@@ -7,6 +7,7 @@
 #include <tbb/info.h>
 
 #include "apps/arguments.h"
+#include "integrators/registry.h"
 #include "integrators/render.h"
 #include "io/scene_io.h"
 
@@ -40,10 +41,10 @@ inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
         r.channelSampling = *sampling;
     }
     if (auto in = args.value("--integrator")) {
-        if (*in != "volpath" && *in != "printpt") throw UsageError("--integrator must be volpath or printpt");
-        if (*in == "printpt" && r.volpath.reentry)
-            throw UsageError("printpt does not trace re-entry; the scene asks for \"reentry\": true");
+        const IntegratorKind* kind = findIntegratorKind(*in);
+        if (!kind) throw UsageError("--integrator must be " + integratorNames());
         r.integrator = *in;
+        if (std::string why = kind->refusal(r); !why.empty()) throw UsageError(why);
     }
 }
 

@@ -6,6 +6,7 @@
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "core/progress.h"
+#include "integrators/registry.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
@@ -81,8 +82,8 @@ int renderCommand(const std::vector<std::string>& argv) {
 
     bool quiet = args.has("--quiet");
     const RenderSettings& rs = desc.render;
-    Scene scene = loadScene(desc, SceneNeeds::of(rs));
-    if (rs.integrator == "printpt" && rs.printpt.nee && !scene.medium->hasSurfaceFields())
+    Scene scene = loadScene(desc, sceneNeedsOf(rs));
+    if (sceneNeedsOf(rs).surfaceFields && !scene.medium->hasSurfaceFields())
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());
     std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);

@@ -1,5 +1,7 @@
 #include "integrators/render.h"
 
+#include "integrators/registry.h"
+
 #include <chrono>
 #include <mutex>
 
@@ -20,11 +22,7 @@ std::vector<int> passesOf(const RenderSettings& settings) {
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
-    std::unique_ptr<Integrator> integrator;
-    if (settings.integrator == "printpt")
-        integrator = std::make_unique<PrintPt>(scene, settings.printpt, settings.seed, std::move(controlMeans));
-    else
-        integrator = std::make_unique<VolPath>(scene, settings.volpath);
+    std::unique_ptr<Integrator> integrator = integratorKindOf(settings).make(scene, settings, std::move(controlMeans));
     if (!rendersChannelsInOnePass(settings)) integrator->prepare(sensor, passesOf(settings));
     return integrator;
 }
@@ -89,8 +87,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
 
 bool rendersChannelsInOnePass(const RenderSettings& settings) {
     if (settings.channelSampling == ChannelSampling::Separate || settings.channels.size() != 3) return false;
-    // printpt's next-event estimation is single-channel: it keeps separate passes.
-    if (settings.integrator == "printpt" && settings.printpt.nee) return false;
+    if (!integratorKindOf(settings).threeChannelsInOnePath(settings)) return false;
     bool seen[3] = {false, false, false};
     for (int c : settings.channels) seen[c] = true;
     return seen[0] && seen[1] && seen[2];

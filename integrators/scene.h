@@ -41,4 +41,15 @@ inline Vec3f toLocalFrame(TriangleMesh& mesh, LabelGrid& grid) {
     return origin;
 }
 
+// What the chosen estimators need beyond mesh, labels and materials.
+struct SceneNeeds {
+    bool surfaceFields = false;  // sdf/normal grids of a prepared .vdb (e.g. printpt's NEE)
+    bool clearance = false;      // the surface clearance (e.g. printpt's query skipping and ball walks)
+    SceneNeeds& operator|=(const SceneNeeds& o) {
+        surfaceFields = surfaceFields || o.surfaceFields;
+        clearance = clearance || o.clearance;
+        return *this;
+    }
+};
+
 }  // namespace pl

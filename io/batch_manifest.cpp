@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "integrators/registry.h"
 #include "io/json_util.h"
 #include "io/scene_io.h"
 
@@ -46,7 +47,7 @@ BatchManifest parseBatchManifest(const std::filesystem::path& file) {
         job.seed = uint64_t(seed);
         if (r.contains("integrator")) {
             std::string in = json.string(r, "integrator", where);
-            if (in != "volpath" && in != "printpt") json.fail(where + ".integrator", "must be volpath or printpt");
+            if (!findIntegratorKind(in)) json.fail(where + ".integrator", "must be " + integratorNames());
             job.integrator = in;
         }
         if (r.contains("channel")) {

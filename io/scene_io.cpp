@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/memory_budget.h"
+#include "integrators/registry.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/json_util.h"
@@ -118,8 +119,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
-        if (r.integrator != "volpath" && r.integrator != "printpt")
-            json.fail("render.integrator", "must be volpath or printpt");
+        if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
         int64_t spp = json.integer(ren, "spp", "render", 16);
         if (spp < 1 || spp > (int64_t(1) << 24)) json.fail("render.spp", "must be in 1..16777216");
         r.spp = uint32_t(spp);
@@ -149,8 +149,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
             std::string problem = setPrintPtOption(r.printpt, p.name, value);
             if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
         }
-        if (r.integrator == "printpt" && r.volpath.reentry)
-            json.fail("render.reentry", "is not supported by printpt (surface prediction ends paths that leave)");
+        if (std::string why = integratorKindOf(r).refusal(r); !why.empty()) json.fail("render.integrator", why);
     }
 
     // output

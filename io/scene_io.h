@@ -39,21 +39,6 @@ struct SceneDescription {
 // Parses and validates the JSON; reads no other file.
 SceneDescription parseScene(const std::filesystem::path& sceneFile);
 
-// What the chosen estimators need beyond mesh, labels and materials.
-struct SceneNeeds {
-    bool surfaceFields = false;  // sdf/normal grids of a prepared .vdb (printpt's NEE)
-    bool clearance = false;      // the surface clearance (printpt's query skipping and ball walks)
-    static SceneNeeds of(const RenderSettings& s) {
-        bool printpt = s.integrator == "printpt";
-        return {printpt && s.printpt.nee, printpt && (s.printpt.clearance || s.printpt.ballWalks)};
-    }
-    SceneNeeds& operator|=(const SceneNeeds& o) {
-        surfaceFields = surfaceFields || o.surfaceFields;
-        clearance = clearance || o.clearance;
-        return *this;
-    }
-};
-
 // Loads mesh, label grid and materials and checks they fit together, plus
 // what `needs` asks for.
 Scene loadScene(const SceneDescription& desc, SceneNeeds needs = {});

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "api/predictor.h"
+#include "integrators/registry.h"
 #include "io/grid_io.h"
 #include "io/mesh_io.h"
 #include "io/scene_io.h"
@@ -48,7 +49,7 @@ TEST(Predictor, MatchesAPlainRender) {
     SurfacePrediction p = predictor->predict();
 
     SceneDescription desc = parseScene(file);
-    Scene scene = loadScene(desc, SceneNeeds::of(desc.render));
+    Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
     auto sensor = makeSensor(desc, scene);
     RenderResult r = render(scene, *sensor, desc.render);
     ASSERT_EQ(p.radiance.size(), sensor->pixelCount());

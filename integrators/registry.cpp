@@ -1,0 +1,53 @@
+#include "integrators/registry.h"
+
+#include <stdexcept>
+
+namespace pl {
+
+const std::vector<IntegratorKind>& integratorKinds() {
+    static const std::vector<IntegratorKind> kinds = {
+        {"volpath", [](const RenderSettings&) { return SceneNeeds{}; },
+         [](const RenderSettings&) { return std::string(); },
+         [](const RenderSettings&) { return true; },
+         [](const Scene& scene, const RenderSettings& s, std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
+             return std::make_unique<VolPath>(scene, s.volpath);
+         }},
+        {"printpt",
+         [](const RenderSettings& s) {
+             return SceneNeeds{s.printpt.nee, s.printpt.clearance || s.printpt.ballWalks};
+         },
+         [](const RenderSettings& s) {
+             return s.volpath.reentry ? std::string("printpt does not trace re-entry; the scene asks for \"reentry\": true")
+                                      : std::string();
+         },
+         // Next-event estimation is single-channel: it keeps separate passes.
+         [](const RenderSettings& s) { return !s.printpt.nee; },
+         [](const Scene& scene, const RenderSettings& s,
+            std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
+             return std::make_unique<PrintPt>(scene, s.printpt, s.seed, std::move(controlMeans));
+         }},
+    };
+    return kinds;
+}
+
+const IntegratorKind* findIntegratorKind(const std::string& name) {
+    for (const IntegratorKind& k : integratorKinds())
+        if (name == k.name) return &k;
+    return nullptr;
+}
+
+const IntegratorKind& integratorKindOf(const RenderSettings& settings) {
+    const IntegratorKind* kind = findIntegratorKind(settings.integrator);
+    if (!kind) throw std::invalid_argument("unknown integrator '" + settings.integrator + "'");
+    return *kind;
+}
+
+std::string integratorNames() {
+    std::string names;
+    const auto& kinds = integratorKinds();
+    for (size_t i = 0; i < kinds.size(); ++i)
+        names += (i == 0 ? "" : i + 1 == kinds.size() ? " or " : ", ") + std::string(kinds[i].name);
+    return names;
+}
+
+}  // namespace pl
