@@ -181,8 +181,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
             predictor.changeLabels(changes);
             return m;
         };
-        result.gamutBlack = meanWith(kPrintMaterialLabel[3]);
-        result.gamutWhite = meanWith(kPrintMaterialLabel[4]);
+        result.gamutBlack = meanWith(kBlackLabel);
+        result.gamutWhite = meanWith(kWhiteLabel);
         for (RGB& t : mapped)
             for (int c = 0; c < 3; ++c)
                 t[c] = result.gamutBlack[c] + std::clamp(t[c], 0.0f, 1.0f) * (result.gamutWhite[c] - result.gamutBlack[c]);

@@ -24,8 +24,6 @@ namespace pl {
 
 namespace {
 
-constexpr Label kWhiteLabel = 4, kVoidLabel = 5;
-
 std::string relativeTo(const std::filesystem::path& target, const std::filesystem::path& fromDir) {
     return std::filesystem::relative(std::filesystem::absolute(target),
                                      std::filesystem::absolute(fromDir.empty() ? "." : fromDir))

@@ -83,7 +83,7 @@ inline MaterialTable tableOf(std::initializer_list<std::pair<Label, Material>> e
     return t;
 }
 
-constexpr Label kVoid = 5;
+constexpr Label kVoid = kVoidLabel;
 
 // Voxels (voxel_mm) from `cornerMin_mm` on, carrying labelOf(voxel index).
 inline LabelGrid labelGrid(const Vec3i& resolution, const Vec3f& voxel_mm,

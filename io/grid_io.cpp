@@ -13,13 +13,14 @@
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"
+#include "media/materials.h"
 #include "media/voxel_fields_vdb.h"
 
 namespace pl {
 
 namespace {
 
-constexpr Label kDefaultVoidLabel = 5;  // "air" in the research label convention
+constexpr Label kDefaultVoidLabel = kVoidLabel;  // "air" in the research label convention
 
 // Memory per voxel of the frame, for refusing jobs that cannot fit: a dense
 // read holds the labels (1 byte) and builds the tree (up to ~1.2 bytes when

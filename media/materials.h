@@ -19,8 +19,18 @@ struct Material {
     bool defined = false;
 };
 
-// Names of the label convention of the research code (Rittig et al. 2021):
+// The label convention of the research code (Rittig et al. 2021), which
+// prepare writes, the bundled data use and a label grid's void defaults to:
 // 0 cyan, 1 magenta, 2 yellow, 3 black, 4 white, 5 air (void), 6 clear.
+enum ResearchLabel : Label {
+    kCyanLabel = 0,
+    kMagentaLabel = 1,
+    kYellowLabel = 2,
+    kBlackLabel = 3,
+    kWhiteLabel = 4,
+    kVoidLabel = 5,
+    kClearLabel = 6,
+};
 inline const char* researchLabelName(int label) {
     static const char* names[] = {"cyan", "magenta", "yellow", "black", "white", "air (void)", "clear"};
     return label >= 0 && label < 7 ? names[label] : "";

@@ -19,13 +19,15 @@
 #include <vector>
 
 #include "core/rgb.h"
+#include "media/materials.h"
 
 namespace pl {
 
 constexpr int kPrintMaterials = 5;  // cyan, magenta, yellow, black, white
 using MaterialFractions = std::array<float, kPrintMaterials>;
 // Labels of the research convention for the five materials.
-constexpr uint8_t kPrintMaterialLabel[kPrintMaterials] = {0, 1, 2, 3, 4};
+constexpr Label kPrintMaterialLabel[kPrintMaterials] = {kCyanLabel, kMagentaLabel, kYellowLabel, kBlackLabel,
+                                                        kWhiteLabel};
 
 MaterialFractions fractionsForColor(const RGB& linear);
 
