@@ -18,10 +18,6 @@
 
 namespace pl {
 
-// Largest grid accepted, in voxels (a dense 2^36-voxel job is absurd for
-// printer-resolution objects and would not fit in memory as a dense read).
-constexpr uint64_t kMaxGridVoxels = uint64_t(1) << 36;
-
 // Reads by extension. voidLabel overrides the file's notion of void
 // (the .vdb background; 5, air, for formats without one).
 LabelGrid loadLabelGrid(const std::filesystem::path& file, std::optional<Label> voidLabel);

@@ -17,6 +17,10 @@ namespace pl {
 
 using Label = uint8_t;
 
+// Largest grid accepted, in voxels (a dense 2^36-voxel job is absurd for
+// printer-resolution objects and would not fit in memory as a dense read).
+constexpr uint64_t kMaxGridVoxels = uint64_t(1) << 36;
+
 class LabelGrid {
 public:
     struct Tree;  // the OpenVDB tree, defined in media/label_tree.h

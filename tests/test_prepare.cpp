@@ -10,6 +10,7 @@
 #include "io/input_error.h"
 #include "io/mesh_io.h"
 #include "prepare/halftone.h"
+#include "prepare/prepare_model.h"
 #include "prepare/voxelizer.h"
 #include "test_util.h"
 
@@ -192,6 +193,36 @@ int prepareExit(const std::string& args, std::string& err) {
     err = r.err;
     return r.exitCode;
 }
+// prepare as a library call: a 2 mm cube in one colour becomes a printed
+// block whose 0.3 mm shell holds that colour's halftone and whose inside
+// is white, with void around it; a grid too large is refused before any
+// allocation, with a PrepareError.
+TEST(PrepareModel, ABoxInOneColourHasAHalftonedShellAndAWhiteCore) {
+    Geometry box(synthetic::boxMesh({0, 0, 0}, {2, 2, 2}));
+    PrepareSettings settings;
+    settings.voxel_mm = {0.1f, 0.1f, 0.1f};
+    settings.extrude_mm = 0.3f;
+    settings.color = RGB{0.9f, 0.2f, 0.2f};
+    PreparedModel p = prepareModel(box, SurfaceAppearance{}, settings);
+    EXPECT_EQ(p.colorSource, "constant --color");
+    // 20 voxels a side, or 21 where the faces cross voxels (conservative
+    // fill); the shell is 3 voxels deep.
+    EXPECT_GE(p.printedVoxels, 20u * 20u * 20u);
+    EXPECT_LE(p.printedVoxels, 21u * 21u * 21u);
+    const uint64_t core = p.printedVoxels - p.shellVoxels;
+    EXPECT_TRUE(core == 14u * 14u * 14u || core == 15u * 15u * 15u) << core;
+    const auto hist = p.labels.histogram();
+    EXPECT_GE(hist[kWhiteLabel], core);
+    EXPECT_GT(hist[kMagentaLabel] + hist[kYellowLabel], 0u);  // red: magenta and yellow
+    EXPECT_GT(hist[kVoidLabel], 0u);                          // the margin
+    const GridFrame& f = p.labels.frame();
+    const Vec3i centre{f.indexMin.x + f.resolution.x / 2, f.indexMin.y + f.resolution.y / 2,
+                       f.indexMin.z + f.resolution.z / 2};
+    EXPECT_EQ(p.labels.label(centre), kWhiteLabel);
+    settings.voxel_mm = {1e-4f, 1e-4f, 1e-4f};
+    EXPECT_THROW(prepareModel(box, SurfaceAppearance{}, settings), PrepareError);
+}
+
 TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
     auto dir = test::freshTempDir("prepare_cli");
     // OBJ whose material names a texture that is not there.
