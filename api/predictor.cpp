@@ -6,9 +6,9 @@
 #include <stdexcept>
 
 #include "core/progress.h"
-#include "integrators/registry.h"
+#include "scene/registry.h"
 #include "io/input_error.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

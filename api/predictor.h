@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "integrators/render.h"
+#include "scene/render.h"
 #include "media/label_grid.h"
 
 namespace pl {

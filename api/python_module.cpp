@@ -10,8 +10,8 @@
 #include <pybind11/stl.h>
 
 #include "api/predictor.h"
-#include "integrators/registry.h"
-#include "io/scene_io.h"
+#include "scene/registry.h"
+#include "scene/scene_io.h"
 
 namespace py = pybind11;
 

@@ -11,12 +11,12 @@
 #include "apps/code_fingerprint.h"
 #include "core/progress.h"
 #include "core/result_comparison.h"
-#include "integrators/registry.h"
-#include "io/batch_manifest.h"
+#include "scene/registry.h"
+#include "scene/batch_manifest.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

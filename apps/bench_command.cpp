@@ -27,11 +27,11 @@
 #include "apps/arguments.h"
 #include "core/progress.h"
 #include "integrators/half_space_walk.h"
-#include "integrators/registry.h"
+#include "scene/registry.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

@@ -7,9 +7,9 @@
 #include <tbb/info.h>
 
 #include "apps/arguments.h"
-#include "integrators/registry.h"
-#include "integrators/render.h"
-#include "io/scene_io.h"
+#include "scene/registry.h"
+#include "scene/render.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

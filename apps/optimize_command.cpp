@@ -19,7 +19,7 @@
 #include "io/input_error.h"
 #include "io/mesh_io.h"
 #include "io/output_file.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

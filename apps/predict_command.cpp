@@ -12,7 +12,7 @@
 #include "apps/command_options.h"
 #include "core/progress.h"
 #include "core/rng.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

@@ -6,12 +6,12 @@
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "core/progress.h"
-#include "integrators/registry.h"
+#include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

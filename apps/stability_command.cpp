@@ -9,7 +9,7 @@
 
 #include "apps/arguments.h"
 #include "apps/command_options.h"
-#include "apps/stability_cases.h"
+#include "testing/stability_cases.h"
 #include "core/progress.h"
 #include "io/output_file.h"
 
@@ -31,7 +31,7 @@ std::string markdownTable(const std::vector<StabilityRow>& rows, bool quick, int
     md << "# Numerical stability suite\n\n"
        << "Written by `printlight stability" << (quick ? " --quick" : "") << " -o docs/stability.md` ("
        << threads << " thread(s), " << number(seconds) << " s in all). Every case of DESIGN.md section 6 on small "
-       << "scenes built in code (`apps/stability_cases.cpp`), rendered with volpath (no re-entry) and printpt "
+       << "scenes built in code (`testing/stability_cases.cpp`), rendered with volpath (no re-entry) and printpt "
        << "(defaults), channel r. *measured* is the mean over all pixels, *std err* its standard error "
        << "(pixels are independent); *z* = (measured - expected) / the combined standard error (round-off "
        << "of 1e-6 relative allowed where both are deterministic); a row passes with |z| < " << kStabilityZLimit

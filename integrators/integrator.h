@@ -10,7 +10,7 @@
 #include "core/fresnel.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
-#include "integrators/scene.h"
+#include "scene/scene.h"
 
 namespace pl {
 

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "integrators/render.h"
+#include "scene/render.h"
 
 namespace pl::test {
 

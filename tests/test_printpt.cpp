@@ -6,7 +6,7 @@
 #include <set>
 #include <variant>
 
-#include "integrators/render.h"
+#include "scene/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
 

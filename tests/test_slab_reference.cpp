@@ -12,7 +12,7 @@
 
 #include <cmath>
 
-#include "integrators/render.h"
+#include "scene/render.h"
 #include "media/slab_transport.h"
 #include "render_estimate.h"
 #include "test_util.h"

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "core/geometry.h"
-#include "integrators/scene.h"
-#include "integrators/synthetic_scene.h"
+#include "scene/scene.h"
+#include "testing/synthetic_scene.h"
 #include "media/label_grid.h"
 #include "media/materials.h"
 

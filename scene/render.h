@@ -10,7 +10,7 @@
 
 #include "core/film.h"
 #include "core/sensors.h"
-#include "integrators/scene.h"
+#include "scene/scene.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
 

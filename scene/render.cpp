@@ -1,6 +1,6 @@
-#include "integrators/render.h"
+#include "scene/render.h"
 
-#include "integrators/registry.h"
+#include "scene/registry.h"
 
 #include <chrono>
 #include <mutex>

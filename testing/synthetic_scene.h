@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/geometry.h"
-#include "integrators/scene.h"
+#include "scene/scene.h"
 #include "media/label_grid.h"
 #include "media/materials.h"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "integrators/render.h"
+#include "scene/render.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "integrators/registry.h"
+#include "scene/registry.h"
 
 #include <stdexcept>
 

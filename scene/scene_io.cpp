@@ -1,9 +1,9 @@
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 #include <cmath>
 
 #include "core/memory_budget.h"
-#include "integrators/registry.h"
+#include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/json_util.h"

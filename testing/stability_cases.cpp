@@ -1,4 +1,4 @@
-#include "apps/stability_cases.h"
+#include "testing/stability_cases.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,12 +8,12 @@
 
 #include <unistd.h>
 
-#include "integrators/render.h"
-#include "integrators/synthetic_scene.h"
+#include "scene/render.h"
+#include "testing/synthetic_scene.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "core/sensors.h"
-#include "integrators/render.h"
-#include "integrators/scene.h"
+#include "scene/render.h"
+#include "scene/scene.h"
 
 namespace pl {
 

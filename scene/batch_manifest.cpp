@@ -1,10 +1,10 @@
-#include "io/batch_manifest.h"
+#include "scene/batch_manifest.h"
 
 #include <set>
 
-#include "integrators/registry.h"
+#include "scene/registry.h"
 #include "io/json_util.h"
-#include "io/scene_io.h"
+#include "scene/scene_io.h"
 
 namespace pl {
 
