@@ -5,7 +5,7 @@
 #include <cmath>
 #include <deque>
 
-#include "core/color_difference.h"
+#include "compare/color_difference.h"
 #include "prepare/halftone.h"
 
 namespace pl {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "scene/registry.h"
 #include "io/input_error.h"
 #include "scene/scene_io.h"

@@ -25,7 +25,7 @@
 #include <stdexcept>
 
 #include "apps/arguments.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "integrators/half_space_walk.h"
 #include "scene/registry.h"
 #include "io/image_io.h"

@@ -14,7 +14,7 @@
 #include "api/appearance_optimizer.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"

@@ -10,7 +10,7 @@
 #include "api/predictor.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "core/rng.h"
 #include "scene/scene_io.h"
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/arguments.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/materials_io.h"

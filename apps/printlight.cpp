@@ -3,7 +3,7 @@
 #include <cstring>
 
 #include "apps/commands.h"
-#include "core/interrupt.h"
+#include "runtime/interrupt.h"
 #include "io/input_error.h"
 
 namespace {

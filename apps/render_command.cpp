@@ -5,7 +5,7 @@
 
 #include "apps/arguments.h"
 #include "apps/command_options.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"

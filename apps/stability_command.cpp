@@ -10,7 +10,7 @@
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "testing/stability_cases.h"
-#include "core/progress.h"
+#include "runtime/progress.h"
 #include "io/output_file.h"
 
 namespace pl {

@@ -9,7 +9,7 @@
 #include <openvdb/io/File.h>
 
 #include "io/file_names.h"
-#include "core/memory_budget.h"
+#include "runtime/memory_budget.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"

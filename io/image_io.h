@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/film.h"
-#include "core/result_comparison.h"
+#include "compare/result_comparison.h"
 #include "core/sensors.h"
 #include "prepare/surface_appearance.h"
 

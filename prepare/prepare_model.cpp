@@ -4,9 +4,9 @@
 #include <chrono>
 #include <vector>
 
-#include "core/interrupt.h"
-#include "core/memory_budget.h"
-#include "core/progress.h"
+#include "runtime/interrupt.h"
+#include "runtime/memory_budget.h"
+#include "runtime/progress.h"
 #include "prepare/halftone.h"
 
 namespace pl {

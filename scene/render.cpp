@@ -5,9 +5,9 @@
 #include <chrono>
 #include <mutex>
 
-#include "core/interrupt.h"
-#include "core/progress.h"
-#include "core/scheduler.h"
+#include "runtime/interrupt.h"
+#include "runtime/progress.h"
+#include "runtime/scheduler.h"
 
 namespace pl {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "core/memory_budget.h"
+#include "runtime/memory_budget.h"
 #include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"

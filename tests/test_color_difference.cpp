@@ -2,7 +2,7 @@
 // sRGB to L*a*b* conversion against known points.
 #include <gtest/gtest.h>
 
-#include "core/color_difference.h"
+#include "compare/color_difference.h"
 
 namespace pl {
 namespace {

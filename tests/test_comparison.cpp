@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "core/result_comparison.h"
-#include "core/student_t.h"
+#include "compare/result_comparison.h"
+#include "compare/student_t.h"
 
 namespace pl {
 namespace {

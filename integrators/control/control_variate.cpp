@@ -4,7 +4,7 @@
 
 #include <tbb/task_arena.h>
 
-#include "core/scheduler.h"
+#include "runtime/scheduler.h"
 #include "core/sensors.h"
 #include "media/slab_transport.h"
 

@@ -1,4 +1,4 @@
-#include "core/color_difference.h"
+#include "compare/color_difference.h"
 
 #include <cmath>
 

@@ -1,9 +1,9 @@
-#include "core/result_comparison.h"
+#include "compare/result_comparison.h"
 
 #include <cmath>
 #include <cstring>
 
-#include "core/student_t.h"
+#include "compare/student_t.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "core/scheduler.h"
+#include "runtime/scheduler.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

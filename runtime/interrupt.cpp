@@ -1,4 +1,4 @@
-#include "core/interrupt.h"
+#include "runtime/interrupt.h"
 
 #include <atomic>
 #include <csignal>

@@ -1,4 +1,4 @@
-#include "core/memory_budget.h"
+#include "runtime/memory_budget.h"
 
 #include <unistd.h>
 
