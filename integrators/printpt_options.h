@@ -35,7 +35,7 @@ struct PrintPtOptions {
     // Monte Carlo walks behind the mean of a wedge (a quarter of this) or
     // of a curved region (a 32nd); the half-space's mean is exact.
     int64_t controlWalks = int64_t(1) << 17;
-    float controlProbe = 0.5f;  // diffusion lengths (see controlFor; measured in docs/performance.md)
+    float controlProbe = 0.5f;  // diffusion lengths (ControlVariate::fit; measured in docs/performance.md)
     // Where that fails: a second try over this reach, if the body is a
     // diffusion length thick below the entry (curved surfaces); 0: none.
     float controlProbeShort = 0.0f;

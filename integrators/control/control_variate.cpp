@@ -286,8 +286,7 @@ bool ControlVariate::curvedFits(const Ray& inside, float reach_mm, float diffusi
                                 Shape& shape) const {
     // Only on thick bodies below the entry: on thinner parts the walks
     // soon reach surface the fit did not see, part, and the probes and
-    // continuations cost more than they save (the white animal: 0.85x at
-    // one diffusion length, 0.98x at two; docs/performance.md).
+    // continuations cost more than they save (docs/performance.md).
     const float thickness_mm = options_.controlCurvedThickness * diffusion_mm;
     if (!holdsBall(control.origin + inside.d * thickness_mm, thickness_mm)) return false;
     // The surface's drop below the entry plane at the closest points to 8
