@@ -1,0 +1,328 @@
+#include "io/mesh_formats.h"
+
+#include <tiny_gltf.h>
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <unordered_map>
+
+#include <nlohmann/json.hpp>
+
+#include "io/file_names.h"
+#include "io/image_io.h"
+#include "io/input_error.h"
+#include "io/output_file.h"
+
+namespace pl {
+
+namespace {
+
+// Reads an accessor as floats, `components` per element; integer types are
+// normalised to [0, 1] (glTF's normalized colours and texture coordinates).
+std::vector<float> readAccessor(const tinygltf::Model& model, int index, int components,
+                                const std::string& name) {
+    if (index < 0 || index >= int(model.accessors.size())) throw InputError(name, "bad accessor index");
+    const auto& acc = model.accessors[size_t(index)];
+    int have = tinygltf::GetNumComponentsInType(uint32_t(acc.type));
+    if (have < components) throw InputError(name, "vertex attribute has too few components");
+    int size = tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType));
+    if (size <= 0) throw InputError(name, "unsupported vertex attribute type");
+    const auto& view = model.bufferViews.at(size_t(acc.bufferView));
+    const auto& buf = model.buffers.at(size_t(view.buffer));
+    size_t stride = size_t(acc.ByteStride(view));
+    size_t begin = view.byteOffset + acc.byteOffset;
+    if (stride == 0 || begin + stride * (acc.count ? acc.count - 1 : 0) + size_t(have * size) > buf.data.size())
+        throw InputError(name, "accessor runs past its buffer");
+    std::vector<float> out(acc.count * size_t(components));
+    for (size_t i = 0; i < acc.count; ++i)
+        for (int c = 0; c < components; ++c) {
+            const unsigned char* p = &buf.data[begin + i * stride + size_t(c * size)];
+            float v;
+            switch (acc.componentType) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: std::memcpy(&v, p, 4); break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: v = *p / 255.0f; break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t u; std::memcpy(&u, p, 2); v = u / 65535.0f; break; }
+                default: throw InputError(name, "unsupported vertex attribute type");
+            }
+            out[i * components + size_t(c)] = v;
+        }
+    return out;
+}
+
+std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index, const std::string& name) {
+    const auto& acc = model.accessors.at(size_t(index));
+    const auto& view = model.bufferViews.at(size_t(acc.bufferView));
+    const auto& buf = model.buffers.at(size_t(view.buffer));
+    size_t size = size_t(tinygltf::GetComponentSizeInBytes(uint32_t(acc.componentType)));
+    size_t stride = view.byteStride ? view.byteStride : size;
+    size_t begin = view.byteOffset + acc.byteOffset;
+    if (begin + stride * (acc.count ? acc.count - 1 : 0) + size > buf.data.size())
+        throw InputError(name, "index accessor runs past its buffer");
+    std::vector<uint32_t> out(acc.count);
+    for (size_t i = 0; i < acc.count; ++i) {
+        const unsigned char* p = &buf.data[begin + i * stride];
+        if (size == 1) out[i] = *p;
+        else if (size == 2) { uint16_t v; std::memcpy(&v, p, 2); out[i] = v; }
+        else if (size == 4) { std::memcpy(&out[i], p, 4); }
+        else throw InputError(name, "unsupported index type");
+    }
+    return out;
+}
+
+using Mat4 = std::array<double, 16>;  // column-major, as glTF stores it
+
+Mat4 multiply(const Mat4& a, const Mat4& b) {
+    Mat4 r{};
+    for (int c = 0; c < 4; ++c)
+        for (int rr = 0; rr < 4; ++rr)
+            for (int k = 0; k < 4; ++k) r[c * 4 + rr] += a[k * 4 + rr] * b[c * 4 + k];
+    return r;
+}
+
+Mat4 nodeMatrix(const tinygltf::Node& n) {
+    if (n.matrix.size() == 16) {
+        Mat4 m;
+        std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
+        return m;
+    }
+    Mat4 t{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, r = t, s = t;
+    if (n.translation.size() == 3) { t[12] = n.translation[0]; t[13] = n.translation[1]; t[14] = n.translation[2]; }
+    if (n.scale.size() == 3) { s[0] = n.scale[0]; s[5] = n.scale[1]; s[10] = n.scale[2]; }
+    if (n.rotation.size() == 4) {
+        double x = n.rotation[0], y = n.rotation[1], z = n.rotation[2], w = n.rotation[3];
+        r = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w), 0,
+             2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w), 0,
+             2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y), 0,
+             0, 0, 0, 1};
+    }
+    return multiply(t, multiply(r, s));
+}
+
+struct GltfState {
+    MeshAsset asset;
+    bool allNormals = true, anyUvs = false, anyColors = false;
+};
+
+void appendGltfNode(const tinygltf::Model& model, int nodeIndex, const Mat4& parent,
+                    GltfState& st, const std::string& name, int depth) {
+    TriangleMesh& mesh = st.asset.mesh;
+    SurfaceAppearance& look = st.asset.appearance;
+    if (depth > 64) throw InputError(name, "node hierarchy too deep (cycle?)");
+    const auto& node = model.nodes.at(size_t(nodeIndex));
+    Mat4 m = multiply(parent, nodeMatrix(node));
+    if (node.mesh >= 0) {
+        for (const auto& prim : model.meshes.at(size_t(node.mesh)).primitives) {
+            if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1)
+                throw InputError(name, "only triangle primitives are supported");
+            auto pos = prim.attributes.find("POSITION");
+            if (pos == prim.attributes.end()) throw InputError(name, "primitive without POSITION");
+            std::vector<float> p = readAccessor(model, pos->second, 3, name);
+            for (float x : p)
+                if (!std::isfinite(x)) throw InputError(name, "non-finite vertex position");
+            std::vector<float> nrm;
+            auto nit = prim.attributes.find("NORMAL");
+            if (nit != prim.attributes.end()) nrm = readAccessor(model, nit->second, 3, name);
+            st.allNormals = st.allNormals && !nrm.empty();
+            std::vector<float> uv, col;
+            auto uit = prim.attributes.find("TEXCOORD_0");
+            if (uit != prim.attributes.end()) uv = readAccessor(model, uit->second, 2, name);
+            auto cit = prim.attributes.find("COLOR_0");
+            if (cit != prim.attributes.end()) col = readAccessor(model, cit->second, 3, name);
+            st.anyUvs = st.anyUvs || !uv.empty();
+            st.anyColors = st.anyColors || !col.empty();
+            uint32_t base = uint32_t(mesh.positions_mm.size());
+            size_t count = p.size() / 3;
+            if ((!uv.empty() && uv.size() / 2 != count) || (!col.empty() && col.size() / 3 != count) ||
+                (!nrm.empty() && nrm.size() / 3 != count))
+                throw InputError(name, "vertex attributes of different lengths");
+            for (size_t i = 0; i < count; ++i) {
+                look.uvs.push_back(uv.empty() ? std::array<float, 2>{0, 0} : std::array<float, 2>{uv[2 * i], uv[2 * i + 1]});
+                look.vertexColors.push_back(col.empty() ? RGB{1, 1, 1} : RGB{col[3 * i], col[3 * i + 1], col[3 * i + 2]});
+            }
+            // glTF materials map one to one onto ours (loaded in loadGltf).
+            uint32_t material = prim.material >= 0 ? uint32_t(prim.material) : uint32_t(model.materials.size());
+            for (size_t i = 0; i < count; ++i) {
+                double x = p[3 * i], y = p[3 * i + 1], z = p[3 * i + 2];
+                mesh.positions_mm.push_back({float(m[0] * x + m[4] * y + m[8] * z + m[12]),
+                                             float(m[1] * x + m[5] * y + m[9] * z + m[13]),
+                                             float(m[2] * x + m[6] * y + m[10] * z + m[14])});
+                Vec3f n(0, 0, 0);
+                if (!nrm.empty()) {
+                    // Normals transform by the inverse transpose; for the
+                    // rotation+scale matrices of printable models the
+                    // cofactor matrix does it up to scale.
+                    double a = nrm[3 * i], b = nrm[3 * i + 1], c = nrm[3 * i + 2];
+                    Vec3f c0{float(m[0]), float(m[1]), float(m[2])};
+                    Vec3f c1{float(m[4]), float(m[5]), float(m[6])};
+                    Vec3f c2{float(m[8]), float(m[9]), float(m[10])};
+                    Vec3f k0 = cross(c1, c2), k1 = cross(c2, c0), k2 = cross(c0, c1);
+                    n = k0 * float(a) + k1 * float(b) + k2 * float(c);
+                    float len = length(n);
+                    n = len > 0 ? n / len : Vec3f(0, 0, 0);
+                }
+                mesh.normals.push_back(n);
+            }
+            std::vector<uint32_t> idx;
+            if (prim.indices >= 0) {
+                idx = readIndices(model, prim.indices, name);
+            } else {
+                idx.resize(count);
+                for (size_t i = 0; i < count; ++i) idx[i] = uint32_t(i);
+            }
+            if (idx.size() % 3) throw InputError(name, "index count is not a multiple of 3");
+            for (uint32_t i : idx) {
+                if (i >= count) throw InputError(name, "vertex index out of range");
+                mesh.indices.push_back(base + i);
+            }
+            look.triangleMaterial.insert(look.triangleMaterial.end(), idx.size() / 3, material);
+        }
+    }
+    for (int child : node.children) appendGltfNode(model, child, m, st, name, depth + 1);
+}
+
+// An 8- or 16-bit sRGB image decoded by tinygltf, as linear RGB.
+Texture textureFromGltfImage(const tinygltf::Image& im, const std::string& name) {
+    if (im.width <= 0 || im.height <= 0 || im.component < 1 || (im.bits != 8 && im.bits != 16) ||
+        im.image.size() < size_t(im.width) * im.height * im.component * (im.bits / 8))
+        throw InputError(name, "texture image '" + im.uri + "' could not be decoded");
+    std::vector<float> values(size_t(im.width) * im.height * size_t(im.component));
+    for (size_t at = 0; at < values.size(); ++at)
+        values[at] = im.bits == 8 ? im.image[at] / 255.0f : (im.image[2 * at] | (im.image[2 * at + 1] << 8)) / 65535.0f;
+    return Texture::fromInterleaved(im.width, im.height, im.component, values, true);
+}
+
+}  // namespace
+
+MeshAsset loadGltf(const std::filesystem::path& file) {
+    const std::string name = file.string();
+    if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");
+    tinygltf::TinyGLTF loader;
+    tinygltf::Model model;
+    std::string err, warn;
+    bool ok = lowerExtension(file) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, name)
+                                              : loader.LoadASCIIFromFile(&model, &err, &warn, name);
+    if (!ok) {
+        std::string msg = err.empty() ? "cannot read glTF" : err;
+        for (char& c : msg) if (c == '\n') c = ' ';
+        while (!msg.empty() && msg.back() == ' ') msg.pop_back();
+        throw InputError(name, "malformed glTF: " + msg);
+    }
+    GltfState st;
+    Mat4 identity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    int sceneIndex = model.defaultScene >= 0 ? model.defaultScene : 0;
+    try {
+        if (!model.scenes.empty()) {
+            for (int n : model.scenes.at(size_t(sceneIndex)).nodes)
+                appendGltfNode(model, n, identity, st, name, 0);
+        } else {
+            for (size_t n = 0; n < model.nodes.size(); ++n)
+                appendGltfNode(model, int(n), identity, st, name, 0);
+        }
+        // Base colours: factor (linear) and texture (sRGB) per material, plus
+        // one default white material for primitives without one.
+        SurfaceAppearance& look = st.asset.appearance;
+        std::map<int, int> textureOfImage;
+        for (const auto& m : model.materials) {
+            SurfaceMaterial sm;
+            const auto& pbr = m.pbrMetallicRoughness;
+            for (int c = 0; c < 3 && c < int(pbr.baseColorFactor.size()); ++c) sm.baseColorFactor[c] = float(pbr.baseColorFactor[size_t(c)]);
+            if (pbr.baseColorTexture.index >= 0) {
+                int image = model.textures.at(size_t(pbr.baseColorTexture.index)).source;
+                if (!textureOfImage.count(image)) {
+                    look.textures.push_back(textureFromGltfImage(model.images.at(size_t(image)), name));
+                    textureOfImage[image] = int(look.textures.size()) - 1;
+                }
+                sm.texture = textureOfImage[image];
+            }
+            look.materials.push_back(sm);
+        }
+        look.materials.push_back({});
+    } catch (const std::out_of_range&) {
+        throw InputError(name, "malformed glTF: index out of range");
+    }
+    TriangleMesh& mesh = st.asset.mesh;
+    SurfaceAppearance& look = st.asset.appearance;
+    if (!st.allNormals) mesh.normals.clear();
+    if (!st.anyUvs) look.uvs.clear();
+    if (!st.anyColors) look.vertexColors.clear();
+    if (model.materials.empty()) {
+        look.materials.clear();
+        look.triangleMaterial.clear();
+    }
+    return std::move(st.asset);
+}
+
+
+namespace {
+std::string base64(const std::vector<unsigned char>& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(bytes[i]) << 16;
+        if (i + 1 < bytes.size()) v |= uint32_t(bytes[i + 1]) << 8;
+        if (i + 2 < bytes.size()) v |= bytes[i + 2];
+        out += table[(v >> 18) & 63];
+        out += table[(v >> 12) & 63];
+        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
+        out += i + 2 < bytes.size() ? table[v & 63] : '=';
+    }
+    return out;
+}
+
+template <class T>
+void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
+    const auto* p = reinterpret_cast<const unsigned char*>(data);
+    buf.insert(buf.end(), p, p + count * sizeof(T));
+    while (buf.size() % 4) buf.push_back(0);
+}
+}  // namespace
+
+void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const std::string& textureUri,
+               const std::filesystem::path& file) {
+    using nlohmann::json;
+    std::vector<unsigned char> buf;
+    json views = json::array(), accessors = json::array(), attributes = json::object();
+    auto addView = [&](const void* data, size_t bytes, size_t count, int componentType, const char* type,
+                       int target) {
+        size_t offset = buf.size();
+        appendBytes(buf, static_cast<const unsigned char*>(data), bytes);
+        views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+        accessors.push_back({{"bufferView", views.size() - 1}, {"componentType", componentType}, {"count", count}, {"type", type}});
+        return int(accessors.size()) - 1;
+    };
+    size_t n = mesh.positions_mm.size();
+    Bounds3f b;
+    for (const Point3f& p : mesh.positions_mm) b.expand(p);
+    attributes["POSITION"] = addView(mesh.positions_mm.data(), n * 12, n, 5126, "VEC3", 34962);
+    accessors.back()["min"] = {b.lo.x, b.lo.y, b.lo.z};
+    accessors.back()["max"] = {b.hi.x, b.hi.y, b.hi.z};
+    if (!look.uvs.empty()) attributes["TEXCOORD_0"] = addView(look.uvs.data(), n * 8, n, 5126, "VEC2", 34962);
+    if (!look.vertexColors.empty()) attributes["COLOR_0"] = addView(look.vertexColors.data(), n * 12, n, 5126, "VEC3", 34962);
+    int indices = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
+
+    json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
+    json gltf = {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
+                 {"scene", 0},
+                 {"scenes", {{{"nodes", {0}}}}},
+                 {"nodes", {{{"mesh", 0}}}},
+                 {"bufferViews", views},
+                 {"accessors", accessors},
+                 {"buffers", {{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}}}};
+    if (!textureUri.empty() || !look.materials.empty()) {
+        RGB f = look.materials.empty() ? RGB{1, 1, 1} : look.materials[0].baseColorFactor;
+        json pbr = {{"baseColorFactor", {f[0], f[1], f[2], 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
+        if (!textureUri.empty()) {
+            pbr["baseColorTexture"] = {{"index", 0}};
+            gltf["images"] = {{{"uri", textureUri}}};
+            gltf["textures"] = {{{"source", 0}}};
+        }
+        gltf["materials"] = {{{"pbrMetallicRoughness", pbr}}};
+        primitive["material"] = 0;
+    }
+    gltf["meshes"] = {{{"primitives", {primitive}}}};
+    writeTextFile(file, gltf.dump(1) + "\n");
+}
+
+}  // namespace pl

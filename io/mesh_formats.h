@@ -1,0 +1,16 @@
+// The mesh formats behind loadMeshAsset (io/mesh_io.h), one file each:
+// they read the triangles and colours; loadMeshAsset checks the surface.
+#pragma once
+
+#include <filesystem>
+
+#include "io/mesh_io.h"
+
+namespace pl {
+
+// Wavefront OBJ with .mtl base colours and map_Kd textures (io/obj_io.cpp).
+MeshAsset loadObj(const std::filesystem::path& file);
+// glTF 2.0, .gltf or .glb, through tinygltf (io/gltf_io.cpp).
+MeshAsset loadGltf(const std::filesystem::path& file);
+
+}  // namespace pl
