@@ -3,6 +3,7 @@
 //   p = printlight.Predictor("scene.json")
 //   r = p.predict()          # dict of numpy arrays, see docs/api.md
 //   p.change_labels(voxels, labels)
+//   printlight.prepare("model.gltf", "out.vdb", voxel_mm=(0.0423, 0.0847, 0.027))
 // C++ exceptions arrive as RuntimeError (bad files), ValueError (bad labels
 // or grids) and IndexError (voxels outside the grid).
 #include <pybind11/numpy.h>
@@ -10,6 +11,10 @@
 #include <pybind11/stl.h>
 
 #include "api/predictor.h"
+#include "io/grid_io.h"
+#include "io/mesh_io.h"
+#include "io/output_file.h"
+#include "prepare/prepare_model.h"
 #include "scene/registry.h"
 #include "scene/scene_io.h"
 
@@ -79,6 +84,36 @@ void setLabels(Predictor& p, Labels3d dense) {
     p.setLabels(LabelGrid::fromDense(f, labels, p.labels().voidLabel()));
 }
 
+// prepare as the command line runs it (prepare/prepare_model.h): reads the
+// model, writes labels, sdf and normal grids to `output`; returns counts.
+py::dict prepare(const std::string& model, const std::string& output, std::array<float, 3> voxel_mm,
+                 float extrude_mm, float margin_mm, std::optional<std::array<float, 3>> color,
+                 const std::string& halftone) {
+    if (std::filesystem::path(output).extension() != ".vdb") throw std::invalid_argument("output must be a .vdb file");
+    if (halftone != "error-diffusion" && halftone != "nearest")
+        throw std::invalid_argument("halftone must be error-diffusion or nearest");
+    refuseToOverwriteInputs(output, {model});
+    PrepareSettings settings;
+    settings.voxel_mm = {voxel_mm[0], voxel_mm[1], voxel_mm[2]};
+    settings.extrude_mm = extrude_mm;
+    settings.margin_mm = margin_mm;
+    if (color) settings.color = RGB{(*color)[0], (*color)[1], (*color)[2]};
+    settings.halftone = halftone == "nearest" ? PrepareSettings::Halftone::Nearest
+                                              : PrepareSettings::Halftone::ErrorDiffusion;
+    MeshAsset asset = loadMeshAsset(model);
+    Geometry geometry(std::move(asset.mesh));
+    PreparedModel prepared = prepareModel(geometry, asset.appearance, settings);
+    writePreparedVdb(prepared.labels, prepared.fields, output);
+    const Vec3i r = prepared.labels.frame().resolution;
+    py::dict d;
+    d["resolution"] = std::vector<int>{r.x, r.y, r.z};
+    d["printed_voxels"] = prepared.printedVoxels;
+    d["shell_voxels"] = prepared.shellVoxels;
+    d["surface_voxels"] = prepared.labels.surfaceVoxels().size();
+    d["color_source"] = prepared.colorSource;
+    return d;
+}
+
 }  // namespace
 }  // namespace pl
 
@@ -136,4 +171,9 @@ PYBIND11_MODULE(printlight, m) {
              py::arg("round_spp") = 8, py::arg("max_spp") = 1024, py::arg("max_seconds") = 0.0,
              "Adaptive sampling: render until every voxel's standard error meets the target (see docs/api.md).")
         .def("adaptive_off", [](Predictor& p) { p.adaptive().enabled = false; });
+    m.def("prepare", &prepare, py::arg("model"), py::arg("output"),
+          py::arg("voxel_mm") = std::array<float, 3>{0.0423f, 0.0847f, 0.027f}, py::arg("extrude_mm") = 1.0f,
+          py::arg("margin_mm") = 0.12f, py::arg("color") = py::none(), py::arg("halftone") = "error-diffusion",
+          "Voxelises and halftones a closed, textured mesh (.gltf, .glb, .obj) into a prepared .vdb, as "
+          "`printlight prepare` does; returns a dict of counts.");
 }

@@ -1,7 +1,9 @@
 """The Python module of the prediction API, run by ctest with Debian's python3:
 shapes and types, determinism, label round trips, changes that change the
 prediction, errors as Python exceptions, adaptive sampling."""
+import os
 import sys
+import tempfile
 import unittest
 
 import numpy as np
@@ -99,6 +101,24 @@ class PredictorTest(unittest.TestCase):
         g, e = r["radiance"][:, 1], r["stderr"][:, 1]
         self.assertTrue(np.all(e[done] <= 0.2 * g[done] + 1e-7))
         self.assertGreater(s.max(), s.min())
+
+
+class PrepareTest(unittest.TestCase):
+    def test_prepare_writes_a_grid_a_predictor_reads(self):
+        model = os.path.join(os.path.dirname(SCENE), "..", "meshes", "cube10.gltf")
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "cube.vdb")
+            r = printlight.prepare(model, out, voxel_mm=(0.25, 0.25, 0.25), extrude_mm=0.5, color=(0.8, 0.2, 0.2))
+            self.assertTrue(os.path.exists(out))
+            self.assertEqual(r["color_source"], "constant --color")
+            self.assertGreater(r["printed_voxels"], 40 ** 3 - 1)
+            self.assertGreater(r["shell_voxels"], 0)
+            self.assertGreater(r["surface_voxels"], 6 * 38 * 38)
+            with self.assertRaises(ValueError):
+                printlight.prepare(model, os.path.join(d, "cube.png"))
+            with self.assertRaises(RuntimeError):
+                printlight.prepare(os.path.join(d, "missing.gltf"), os.path.join(d, "m.vdb"))
+            self.assertFalse(os.path.exists(os.path.join(d, "m.vdb")))
 
 
 if __name__ == "__main__":
