@@ -89,9 +89,13 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
 
 namespace {
 
-// NEE needs the surface fields of a prepared .vdb: off without them.
+// NEE needs the surface fields of a prepared .vdb: off without them. The
+// control's coupled walk (walkWithControl) samples the medium first and
+// weights by Fresnel: with either switch off the control does not run,
+// so that those switches mean what they say.
 PrintPtOptions forScene(PrintPtOptions options, const Scene& scene) {
     options.nee = options.nee && scene.medium->hasSurfaceFields();
+    options.controlVariate = options.controlVariate && options.mediumFirst && options.fresnelWeighting;
     return options;
 }
 

@@ -418,6 +418,27 @@ TEST(PrintPt, ControlDecisionsDoNotDependOnTheImageSize) {
     EXPECT_GT(differ, 0u);
 }
 
+// The control's coupled walk samples the medium first and weights by
+// Fresnel: with boundary-first queries or random Fresnel choices the
+// control does not run (those switches then mean what they say).
+TEST(PrintPt, SwitchesTheControlWalkCannotHonourTurnItOff) {
+    Scene scene = whiteBall();
+    SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), everyNthSurfaceVoxel(scene.medium->grid(), 13));
+    RenderSettings s;
+    s.integrator = "printpt";
+    s.spp = 1;
+    s.printpt.controlWalks = 1 << 12;
+    auto controlled = [](const RenderResult& r) {
+        return r.stats.controlledWalks[0] + r.stats.controlledWalks[1] + r.stats.controlledWalks[2];
+    };
+    EXPECT_GT(controlled(render(scene, sensor, s)), 0u);
+    s.printpt.mediumFirst = false;
+    EXPECT_EQ(controlled(render(scene, sensor, s)), 0u);
+    s.printpt.mediumFirst = true;
+    s.printpt.fresnelWeighting = false;
+    EXPECT_EQ(controlled(render(scene, sensor, s)), 0u);
+}
+
 // Under a curved surface the control is the region below a paraboloid
 // with tabulated curvatures (integrators/half_space_walk.h): on a white
 // ball, where the flat probes fail in red and green, printpt must still
