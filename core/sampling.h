@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "core/rng.h"
 #include "core/vecmath.h"
 
 namespace pl {
@@ -72,6 +73,16 @@ inline float sampleOpticalDepth(float u) { return -std::log(1.0f - u); }
 inline DistanceSample sampleExponential(float sigma, float u) {
     float t = -std::log1p(-u) / sigma;
     return {t, sigma * std::exp(-sigma * t)};
+}
+
+// Russian roulette with survival probability q (q >= 1: no roulette). False
+// if the walk ends; else survive(q) rescales what the walk carries by 1/q.
+template <class Survive>
+bool playRoulette(float q, Rng& rng, Survive&& survive) {
+    if (q >= 1.0f) return true;
+    if (!(rng.uniform() < q)) return false;
+    survive(q);
+    return true;
 }
 
 }  // namespace pl

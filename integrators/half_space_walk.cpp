@@ -79,11 +79,7 @@ namespace {
 
 // Roulette and phase sampling after a collision; false if the walk ends.
 bool scatter(const HalfSpace& hs, HalfSpaceWalker& w, const RouletteRule& roulette, Rng& rng) {
-    float q = roulette.survival(w.weight);
-    if (q < 1.0f) {
-        if (!(rng.uniform() < q)) return false;
-        w.weight /= q;
-    }
+    if (!playRoulette(roulette.survival(w.weight), rng, [&](float survival) { w.weight /= survival; })) return false;
     float u0 = rng.uniform(), u1 = rng.uniform();
     w.d = sampleHG(w.d, hs.g, u0, u1).dOut;
     return true;
@@ -103,11 +99,7 @@ float finishHalfSpaceWalk(const HalfSpace& hs, HalfSpaceWalker w, bool atCollisi
                 w.d, radius_mm, hs.sigmaT_perMm, hs.g,
                 [&](float) {
                     w.weight *= hs.albedo;
-                    float q = roulette.survival(w.weight);
-                    if (q >= 1.0f) return true;
-                    if (!(rng.uniform() < q)) return false;
-                    w.weight /= q;
-                    return true;
+                    return playRoulette(roulette.survival(w.weight), rng, [&](float survival) { w.weight /= survival; });
                 },
                 rng);
             collisions += b.collisions;

@@ -51,6 +51,14 @@ inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
     return r;
 }
 
+// The ray reflected back inside at an inner boundary hit (straight in
+// along the geometric normal where the mirror direction would leave).
+inline Ray reflectedInside(const Geometry& geometry, const Vec3f& d, const SurfaceHit& hit) {
+    Vec3f r = reflectOnSide(d, hit);
+    if (dot(r, hit.ng) >= 0) r = -hit.ng;
+    return geometry.spawnRay(hit.p, hit.ng, r);
+}
+
 // The refracted ray that enters the object at `entry`, a hit of the camera
 // ray from outside (straight in along the geometric normal where
 // refraction fails).

@@ -218,9 +218,7 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             return L;
         }
         hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
-        Vec3f r = reflectOnSide(ray.d, *hit);
-        if (dot(r, hit->ng) >= 0) r = -hit->ng;
-        ray = geometry.spawnRay(hit->p, hit->ng, r);
+        ray = reflectedInside(geometry, ray.d, *hit);
     }
 }
 
@@ -234,11 +232,8 @@ float PrintPt::rouletteThreshold(const Path& path, Label label) const {
 
 template <class Path>
 bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
-    float q = std::min(options_.rrCap, path.rouletteValue() / rouletteThreshold(path, label));
-    if (q >= 1.0f) return true;
-    if (!(rng.uniform() < q)) return false;
-    path.scale(1.0f / q);
-    return true;
+    const float q = std::min(options_.rrCap, path.rouletteValue() / rouletteThreshold(path, label));
+    return playRoulette(q, rng, [&](float survival) { path.scale(1.0f / survival); });
 }
 
 float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
@@ -289,6 +284,10 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
     auto sharedSurvival = [&](Label label) {
         return std::min(options_.rrCap, std::max(path.beta, c.weight) / rouletteThreshold(path, label));
     };
+    auto scaleBoth = [&](float survival) {
+        path.scale(1.0f / survival);
+        c.weight /= survival;
+    };
     auto finishControl = [&](bool atCollision) {
         const int n = options_.controlContinuations;
         float remainder = 0.0f;
@@ -311,12 +310,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
                                             [&](float) {
                                                 path.collide(label);
                                                 c.weight *= control.albedo;
-                                                float q = sharedSurvival(label);
-                                                if (q >= 1.0f) return true;
-                                                if (!(rng.uniform() < q)) return false;
-                                                path.scale(1.0f / q);
-                                                c.weight /= q;
-                                                return true;
+                                                return playRoulette(sharedSurvival(label), rng, scaleBoth);
                                             },
                                             rng);
                 stats.scatterEvents += uint64_t(b.collisions);
@@ -359,9 +353,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
                 f += (1.0f - F) * path.beta * path.Le;
                 path.scale(F);
                 if (!path.alive()) return f;
-                Vec3f r = reflectOnSide(ray.d, *hit);
-                if (dot(r, hit->ng) >= 0) r = -hit->ng;
-                ray = geometry.spawnRay(hit->p, hit->ng, r);
+                ray = reflectedInside(geometry, ray.d, *hit);
             }
             stats.paths -= 1;  // walk() counts it again
             return f + (this->*walkSingle_)(ray, path, medium, rng, stats);
@@ -371,12 +363,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
             stats.scatterEvents += 1;
             bounces = 0;
             path.collide(ff.label);
-            float q = sharedSurvival(ff.label);
-            if (q < 1.0f) {
-                if (!(rng.uniform() < q)) return L - Lc * path.Le;
-                path.scale(1.0f / q);
-                c.weight /= q;
-            }
+            if (!playRoulette(sharedSurvival(ff.label), rng, scaleBoth)) return L - Lc * path.Le;
             float u0 = rng.uniform(), u1 = rng.uniform();
             Point3f x = ray.at(ff.t_mm);
             ray = {x, sampleHG(ray.d, path.g(ff.label), u0, u1).dOut};
@@ -393,9 +380,7 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
         path.addLight(L, 1.0f - F);
         path.scale(F);
         if (!path.alive()) return finishControl(false);
-        Vec3f r = reflectOnSide(ray.d, *hit);
-        if (dot(r, hit->ng) >= 0) r = -hit->ng;
-        ray = geometry.spawnRay(hit->p, hit->ng, r);
+        ray = reflectedInside(geometry, ray.d, *hit);
     }
 }
 
