@@ -78,19 +78,18 @@ public:
     // surface a spawned ray's origin sits (surely on the side it leaves to).
     float surfaceLift_mm() const { return surfaceLift_mm_; }
 
-    // A ray leaving the surface point p (geometric normal ng, outward) in
-    // direction d (unit); the surface itself is skipped by tMin, the
-    // distance along d at which the ray is rayEpsilon off the plane (capped
-    // at 16 rayEpsilon for grazing directions). Into the object the origin
-    // is p itself: the medium starts at the surface, and a lifted origin
-    // would skip surfaceLift of it on every entry and inner reflection (a
-    // bias of that many optical depths: 0.1 % at sigma_t 100 /mm).
-    // Out of it the origin is surfaceLift off the surface, surely outside.
+    // A ray leaving the surface point p (geometric normal ng) in direction d
+    // (unit). Its origin is only surfaceLift off the surface, so the medium
+    // right behind the surface is not skipped (at sigma_t 1e4/mm a
+    // rayEpsilon offset would skip a mean free path); the surface itself is
+    // skipped by tMin, the distance along d at which the ray is rayEpsilon
+    // off the plane (capped at 16 rayEpsilon for grazing directions, whose
+    // origin then lifts further).
     Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d) const {
         float cosine = dot(d, ng);
-        if (cosine < 0) return {p, d, rayEpsilon_mm_ / std::max(-cosine, 1.0f / 16.0f)};
-        float back = (rayEpsilon_mm_ - surfaceLift_mm_) / std::max(cosine, 1.0f / 16.0f);
-        return {p + ng * rayEpsilon_mm_ - d * back, d, back};
+        float side = cosine > 0 ? 1.0f : -1.0f;
+        float back = (rayEpsilon_mm_ - surfaceLift_mm_) / std::max(std::abs(cosine), 1.0f / 16.0f);
+        return {p + ng * (side * rayEpsilon_mm_) - d * back, d, back};
     }
 
 private:
