@@ -85,11 +85,15 @@ public:
     // skipped by tMin, the distance along d at which the ray is rayEpsilon
     // off the plane (capped at 16 rayEpsilon for grazing directions, whose
     // origin then lifts further).
+    // Into the object, the medium between the surface and the origin is
+    // the ray's mediumBefore_mm (its flights count it).
     Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d) const {
         float cosine = dot(d, ng);
         float side = cosine > 0 ? 1.0f : -1.0f;
         float back = (rayEpsilon_mm_ - surfaceLift_mm_) / std::max(std::abs(cosine), 1.0f / 16.0f);
-        return {p + ng * (side * rayEpsilon_mm_) - d * back, d, back};
+        Ray r{p + ng * (side * rayEpsilon_mm_) - d * back, d, back};
+        if (cosine < 0) r.mediumBefore_mm = (rayEpsilon_mm_ + cosine * back) / -cosine;  // depth below the plane / |cos|
+        return r;
     }
 
 private:

@@ -71,6 +71,10 @@ struct Ray {
     // Surfaces nearer than this are ignored (a ray spawned on a surface
     // must not hit it again); media are not: they start at o.
     float tMin = 0.0f;
+    // A ray spawned into the object starts surfaceLift inside the surface;
+    // the medium it still has to cross before o, along -d (its flights count
+    // it: flightFromSurface in integrators/integrator.h).
+    float mediumBefore_mm = 0.0f;
     Point3f at(float t) const { return o + d * t; }
 };
 

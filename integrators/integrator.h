@@ -51,6 +51,19 @@ inline Vec3f reflectOnSide(const Vec3f& d, const SurfaceHit& hit) {
     return r;
 }
 
+// The free flight from ray.o, counting the medium a ray spawned into the
+// object has between the surface and its origin (Ray::mediumBefore_mm): a
+// collision there happens at the origin (surely inside; it moves by a few
+// float ulps), and none is lost. track(ray, tMax) samples the flight.
+template <class Track>
+FreeFlight flightFromSurface(const Ray& ray, float tMax, Track&& track) {
+    if (!(ray.mediumBefore_mm > 0.0f)) return track(ray, tMax);
+    const Ray fromSurface{ray.o - ray.d * ray.mediumBefore_mm, ray.d};
+    FreeFlight ff = track(fromSurface, tMax + ray.mediumBefore_mm);
+    if (ff.scattered) ff.t_mm = std::max(0.0f, ff.t_mm - ray.mediumBefore_mm);
+    return ff;
+}
+
 // The ray reflected back inside at an inner boundary hit (straight in
 // along the geometric normal where the mirror direction would leave).
 inline Ray reflectedInside(const Geometry& geometry, const Vec3f& d, const SurfaceHit& hit) {

@@ -158,13 +158,15 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
         FreeFlight ff;
         std::optional<SurfaceHit> hit;
         if constexpr (kMediumFirst) {
-            ff = path.track(medium, ray, 1e30f, rng);
+            ff = flightFromSurface(ray, 1e30f, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
             // A collision nearer than the boundary can be needs no query.
             deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
             if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersectFromInside(ray);
-            if (hit) ff = path.track(medium, ray, hit->t, rng);
+            if (hit)
+                ff = flightFromSurface(ray, hit->t,
+                                       [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
         }
         if (!hit && !(kMediumFirst && ff.scattered)) {
             stats.leaks += 1;  // left an open mesh: count it, treat as leaving
@@ -325,7 +327,9 @@ float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace&
         }
         // One optical depth for both flights.
         float opticalDepth = sampleOpticalDepth(rng.uniform());
-        FreeFlight ff = medium.freeFlightAtDepth(ray, 1e30f, path.channel, opticalDepth);
+        FreeFlight ff = flightFromSurface(ray, 1e30f, [&](const Ray& r, float tMax) {
+            return medium.freeFlightAtDepth(r, tMax, path.channel, opticalDepth);
+        });
         deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
         std::optional<SurfaceHit> hit;
         if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);

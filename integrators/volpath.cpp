@@ -40,7 +40,8 @@ typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& me
 
         if (fromInside) {
             // Medium: delta tracking up to the boundary.
-            FreeFlight ff = path.track(medium, ray, hit->t, rng);
+            FreeFlight ff =
+                flightFromSurface(ray, hit->t, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
             if (ff.scattered) {
                 // Real collision: absorb by throughput Russian roulette.
                 stats.scatterEvents += 1;

@@ -218,7 +218,9 @@ std::optional<ControlVariate::Fit> ControlVariate::fit(const Ray& inside, const 
     // medium can scatter: the mesh and the voxels' edges do not line up, and
     // a skin of void voxels inside the mesh would otherwise shift the two
     // walks' collisions apart by its thickness.
-    FreeFlight first = medium.freeFlightAtDepth(inside, 1e30f, path.channel, 0.0f);
+    FreeFlight first = flightFromSurface(inside, 1e30f, [&](const Ray& r, float tMax) {
+        return medium.freeFlightAtDepth(r, tMax, path.channel, 0.0f);
+    });
     if (!first.scattered) return std::nullopt;
     const Label l = first.label;
     const ChannelLut& lut = *path.lut;
@@ -228,7 +230,10 @@ std::optional<ControlVariate::Fit> ControlVariate::fit(const Ray& inside, const 
     Fit result;
     HalfSpace& control = result.region;
     Shape& shape = result.shape;
-    control = {inside.at(first.t_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
+    // (At the surface itself where the medium starts there: the walk's first
+    // flight starts there too, flightFromSurface.)
+    const float start_mm = first.t_mm > 0.0f ? first.t_mm : -inside.mediumBefore_mm;
+    control = {inside.at(start_mm), -inside.d, lut.sigmaT_perMm[l], lut.albedo[l], lut.g[l], 1.0f / scene_.ior};
 
     // Where another material, a corner, a thin part or a curved surface lies
     // within the walk's reach, the walks part early and each goes on alone,
