@@ -43,11 +43,11 @@ std::string siRate(double v) {
 // it is over 1 %: "" where no control ran.
 std::string controlSummary(const RenderResult& r) {
     const uint64_t* walks = r.stats.controlledWalks;
-    if (walks[0] + walks[1] + walks[2] == 0 || r.stats.paths == 0) return "";
+    if (r.stats.allControlledWalks() == 0 || r.stats.paths == 0) return "";
     auto percent = [&](uint64_t n) { return 100.0 * double(n) / double(r.stats.paths); };
     char text[192];
     int length = std::snprintf(text, sizeof text, ", controls on %.0f %% of walks (half-space %.0f %%, wedge %.0f %%, curved %.0f %%)",
-                               percent(walks[0] + walks[1] + walks[2]), percent(walks[0]), percent(walks[1]),
+                               percent(r.stats.allControlledWalks()), percent(walks[0]), percent(walks[1]),
                                percent(walks[2]));
     double shared = 0, total = 0;
     for (size_t p = 0; p < r.film.pixelCount(); ++p)

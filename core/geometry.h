@@ -84,9 +84,9 @@ public:
     // rayEpsilon offset would skip a mean free path); the surface itself is
     // skipped by tMin, the distance along d at which the ray is rayEpsilon
     // off the plane (capped at 16 rayEpsilon for grazing directions, whose
-    // origin then lifts further).
-    // Into the object, the medium between the surface and the origin is
-    // the ray's mediumBefore_mm (its flights count it).
+    // origin then lifts further). Into the object, the medium between the
+    // surface and the origin is the ray's mediumBefore_mm (its flights
+    // count it: flightFromSurface).
     Ray spawnRay(const Point3f& p, const Vec3f& ng, const Vec3f& d) const {
         float cosine = dot(d, ng);
         float side = cosine > 0 ? 1.0f : -1.0f;

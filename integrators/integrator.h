@@ -27,6 +27,7 @@ struct PathStats {
     uint64_t leaks = 0;          // rays inside that found no boundary (mesh not closed)
     uint64_t trapped = 0;        // paths ended after kMaxBoundaryBounces without scattering
     uint64_t controlledWalks[kControlKinds] = {0, 0, 0};  // printpt's walks with a control, per ControlKind
+    uint64_t allControlledWalks() const { return controlledWalks[0] + controlledWalks[1] + controlledWalks[2]; }
     void operator+=(const PathStats& o) {
         paths += o.paths;
         scatterEvents += o.scatterEvents;

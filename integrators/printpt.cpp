@@ -59,7 +59,7 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
     else walk = walkSpectral_;
     std::optional<ControlVariate::EntryControl> control;
     if constexpr (std::is_same_v<Path, SingleChannelPath>)
-        if (options_.controlVariate && !options_.nee) control = control_.forEntry(inside, path, medium);
+        if (options_.controlVariate) control = control_.forEntry(inside, path, medium);
     if (control) {
         // Every branch adds the same mean: its error is shared, not averaged.
         result.sharedError = transmitted * control->meanError;
@@ -89,13 +89,15 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
 
 namespace {
 
-// NEE needs the surface fields of a prepared .vdb: off without them. The
-// control's coupled walk (walkWithControl) samples the medium first and
-// weights by Fresnel: with either switch off the control does not run,
-// so that those switches mean what they say.
+// The switches that run with this scene, decided once: NEE needs the
+// surface fields of a prepared .vdb. The control variate is for walks
+// without NEE, and its coupled walk (walkWithControl) samples the medium
+// first and weights by Fresnel: with either switch off the control does
+// not run, so that those switches mean what they say.
 PrintPtOptions forScene(PrintPtOptions options, const Scene& scene) {
     options.nee = options.nee && scene.medium->hasSurfaceFields();
-    options.controlVariate = options.controlVariate && options.mediumFirst && options.fresnelWeighting;
+    options.controlVariate =
+        options.controlVariate && !options.nee && options.mediumFirst && options.fresnelWeighting;
     return options;
 }
 
@@ -155,18 +157,17 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             }
         }
         // Distance to the next real collision, then the boundary up to it.
+        auto track = [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); };
         FreeFlight ff;
         std::optional<SurfaceHit> hit;
         if constexpr (kMediumFirst) {
-            ff = flightFromSurface(ray, 1e30f, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
+            ff = flightFromSurface(ray, 1e30f, track);
             // A collision nearer than the boundary can be needs no query.
             deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
             if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);
         } else {
             hit = geometry.intersectFromInside(ray);
-            if (hit)
-                ff = flightFromSurface(ray, hit->t,
-                                       [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
+            if (hit) ff = flightFromSurface(ray, hit->t, track);
         }
         if (!hit && !(kMediumFirst && ff.scattered)) {
             stats.leaks += 1;  // left an open mesh: count it, treat as leaving

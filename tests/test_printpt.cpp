@@ -428,15 +428,12 @@ TEST(PrintPt, SwitchesTheControlWalkCannotHonourTurnItOff) {
     s.integrator = "printpt";
     s.spp = 1;
     s.printpt.controlWalks = 1 << 12;
-    auto controlled = [](const RenderResult& r) {
-        return r.stats.controlledWalks[0] + r.stats.controlledWalks[1] + r.stats.controlledWalks[2];
-    };
-    EXPECT_GT(controlled(render(scene, sensor, s)), 0u);
+    EXPECT_GT(render(scene, sensor, s).stats.allControlledWalks(), 0u);
     s.printpt.mediumFirst = false;
-    EXPECT_EQ(controlled(render(scene, sensor, s)), 0u);
+    EXPECT_EQ(render(scene, sensor, s).stats.allControlledWalks(), 0u);
     s.printpt.mediumFirst = true;
     s.printpt.fresnelWeighting = false;
-    EXPECT_EQ(controlled(render(scene, sensor, s)), 0u);
+    EXPECT_EQ(render(scene, sensor, s).stats.allControlledWalks(), 0u);
 }
 
 // Under a curved surface the control is the region below a paraboloid

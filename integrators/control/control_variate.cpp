@@ -68,7 +68,7 @@ ControlVariate::ControlMean ControlVariate::meanOf(int channel, Label label, con
     const ChannelLut& lut = scene_.medium->lut(channel);
     HalfSpace hs{{0, 0, 0}, {0, 0, 1}, 1.0f, lut.albedo[label], lut.g[label], 1.0f / scene_.ior};
     ControlMean m;
-    if (shape.index() == 0) {
+    if (shape.kind() == ControlKind::HalfSpace) {
         // The half-space: exact, but for the solver's error and the float
         // round-off of a sample's sum (a few ulps: 2^-21 of the value).
         SlabEscape exact = slabEscape({hs.albedo, hs.g, scene_.ior});
@@ -99,8 +99,8 @@ ControlVariate::ControlMean ControlVariate::meanOf(int channel, Label label, con
         }
         HalfSpaceMean estimate;
         tbb::this_task_arena::isolate([&] {
-            estimate = monteCarloMeans_->get(hs, {options_.rrThreshold, options_.rrCap}, std::max(1.0f, options_.ballMinMfp),
-                                     meanWalks(shape), seed);
+            estimate = monteCarloMeans_->get(hs, {options_.rrThreshold, options_.rrCap},
+                                             std::max(1.0f, options_.ballMinMfp), meanWalks(shape), seed);
         });
         m = {float(estimate.mean), float(estimate.standardError)};
     }
@@ -170,14 +170,14 @@ std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& 
         last.control.reset();
         std::optional<Fit> f = fit(inside, path, medium);
         // Half-space means are exact and free; the others cost walks.
-        if (f && surveyed_ && f->shape.kind() != ControlKind::HalfSpace) {
-            const uint32_t entries = entries_[key(path.channel, f->label, f->shape.index())];
-            if (int64_t(entries) * options_.controlMeanWalksPerEntry < meanWalks(f->shape)) f.reset();
-        }
+        const size_t index = f ? key(path.channel, f->label, f->shape.index()) : 0;
+        if (f && surveyed_ && f->shape.kind() != ControlKind::HalfSpace &&
+            int64_t(entries_[index]) * options_.controlMeanWalksPerEntry < meanWalks(f->shape))
+            f.reset();
         if (f) {
             const ControlMean m = meanOf(path.channel, f->label, f->shape);
             last.control = EntryControl{f->region, m.mean * path.Le, m.standardError * path.Le, f->shape.kind(),
-                                        int32_t(key(path.channel, f->label, f->shape.index()))};
+                                        int32_t(index)};
         }
         last.channel = path.channel;
         last.inside = inside;
@@ -186,7 +186,7 @@ std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& 
 }
 
 void ControlVariate::survey(const Sensor& sensor, const std::vector<int>& channels) {
-    if (!options_.controlVariate || options_.nee || options_.controlMeanWalksPerEntry <= 0) return;
+    if (!options_.controlVariate || options_.controlMeanWalksPerEntry <= 0) return;
     // The sensor's survey rays once per channel (Sensor::surveyRay: a fixed
     // set whatever the image size, so that the decisions do not depend on
     // it). The counts, and so the decisions, do not depend on the thread
