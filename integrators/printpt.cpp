@@ -4,7 +4,7 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
-#include "integrators/half_space_walk.h"
+#include "integrators/control/controlled_path.h"
 #include "media/ball_walk.h"
 
 namespace pl {
@@ -53,10 +53,10 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
     // Branching: k walks share the camera ray and the entry.
     const int k = std::max(1, options_.branches);
     const float branchWeight = transmitted / float(k);
-    WalkFunction<Path> walk;
-    if constexpr (std::is_same_v<Path, SingleChannelPath>) walk = walkSingle_;
-    else if constexpr (std::is_same_v<Path, HeroPath>) walk = walkHero_;
-    else walk = walkSpectral_;
+    WalkFunction<Path> walkPath;
+    if constexpr (std::is_same_v<Path, SingleChannelPath>) walkPath = walkSingle_;
+    else if constexpr (std::is_same_v<Path, HeroPath>) walkPath = walkHero_;
+    else walkPath = walkSpectral_;
     std::optional<ControlVariate::EntryControl> control;
     if constexpr (std::is_same_v<Path, SingleChannelPath>)
         if (options_.controlVariate) control = control_.forEntry(inside, path, medium);
@@ -71,14 +71,16 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
         typename Path::Value Lb{};
         if constexpr (std::is_same_v<Path, SingleChannelPath>) {
             if (control) {
-                const float difference = walkWithControl(inside, path, control->region, medium, rng, stats);
+                // forScene runs controls only medium first, Fresnel-weighted, without NEE.
+                ControlledPath controlled(path, control->region, inside.d, options_);
+                const float difference = walk<ControlledPath, false, true, true>(inside, controlled, medium, rng, stats);
                 result.residual += branchWeight * difference;
                 Lb = difference + control->mean;
             } else {
-                Lb = (this->*walk)(inside, path, medium, rng, stats);
+                Lb = (this->*walkPath)(inside, path, medium, rng, stats);
             }
         } else {
-            Lb = (this->*walk)(inside, path, medium, rng, stats);
+            Lb = (this->*walkPath)(inside, path, medium, rng, stats);
         }
         if constexpr (std::is_same_v<typename Path::Value, float>) L += branchWeight * Lb;
         else
@@ -91,7 +93,7 @@ namespace {
 
 // The switches that run with this scene, decided once: NEE needs the
 // surface fields of a prepared .vdb. The control variate is for walks
-// without NEE, and its coupled walk (walkWithControl) samples the medium
+// without NEE, and its coupled walk (ControlledPath) samples the medium
 // first and weights by Fresnel: with either switch off the control does
 // not run, so that those switches mean what they say.
 PrintPtOptions forScene(PrintPtOptions options, const Scene& scene) {
@@ -130,9 +132,16 @@ PrintPt::WalkFunction<Path> PrintPt::selectWalk() const {
 template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
 typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
                                    PathStats& stats) const {
+    constexpr bool kControlled = std::is_same_v<Path, ControlledPath>;
     const Geometry& geometry = *scene_.geometry;
     const float etaOut = 1.0f / scene_.ior;
     typename Path::Value L{};
+    // The walk's value where it ends: L, or with a control f - g;
+    // absorbed: by Russian roulette.
+    auto end = [&](bool absorbed) {
+        if constexpr (kControlled) return path.value(L, absorbed, rng);
+        else return L;
+    };
     int64_t bounces = 0;
     stats.paths += 1;
     const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
@@ -148,9 +157,10 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             // nothing else, without grid lookups or boundary queries.
             Label label;
             float radius_mm = homogeneousBall(ray.o, label);
+            if constexpr (kControlled) radius_mm = std::min(radius_mm, path.ballLimit_mm(ray.d));
             if (radius_mm > 0.0f && path.canWalkBall(label) &&
                 radius_mm * path.ballSigmaT(label) >= options_.ballMinMfp) {
-                if (!walkInBall(ray, radius_mm, label, path, rng, stats)) return L;
+                if (!walkInBall(ray, radius_mm, label, path, rng, stats)) return end(true);
                 bounces = 0;
                 hitWeight = 1.0f;
                 continue;
@@ -172,7 +182,7 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
         if (!hit && !(kMediumFirst && ff.scattered)) {
             stats.leaks += 1;  // left an open mesh: count it, treat as leaving
             path.addLight(L, 1.0f);
-            return L;
+            return end(false);
         }
         // Medium first: the boundary query only reached the collision, so a
         // hit means the boundary comes first. Geometry first: the tracking
@@ -182,7 +192,11 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             // Round-off put the ray outside, facing the surface: it leaves.
             stats.leaks += 1;
             path.addLight(L, 1.0f);
-            return L;
+            return end(false);
+        }
+        if constexpr (kControlled) {
+            // Where the control parts, the path goes on as a walk just begun.
+            if (path.partsAfterFlight(!boundaryFirst, ff.label, L, rng)) deep = false;
         }
 
         if (!boundaryFirst) {
@@ -190,7 +204,7 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             stats.scatterEvents += 1;
             bounces = 0;
             path.collide(ff.label);
-            if (!survivesRoulette(path, ff.label, rng)) return L;
+            if (!survivesRoulette(path, ff.label, rng)) return end(true);
             Point3f x = ray.at(ff.t_mm);
             Lobe lobe;
             if constexpr (kNee) path.addLight(L, nextEvent(x, ray.d, ff.label, path.channel, medium, rng, lobe));
@@ -208,17 +222,17 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
         // Boundary from inside.
         if (++bounces > kMaxBoundaryBounces) {
             stats.trapped += 1;
-            return L;
+            return end(false);
         }
         Vec3f n = -hit->ns;  // facing against the ray
         float F = fresnelDielectric(-dot(ray.d, n), etaOut);
         if constexpr (kFresnelWeighting) {
             path.addLight(L, hitWeight * (1.0f - F));  // the transmitted part leaves for good
             path.scale(F);
-            if (!path.alive()) return L;
+            if (!path.alive()) return end(false);
         } else if (!(rng.uniform() < F)) {
             path.addLight(L, hitWeight);
-            return L;
+            return end(false);
         }
         hitWeight = 1.0f;  // light after an inner reflection has no NEE counterpart
         ray = reflectedInside(geometry, ray.d, *hit);
@@ -236,7 +250,10 @@ float PrintPt::rouletteThreshold(const Path& path, Label label) const {
 template <class Path>
 bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
     const float q = std::min(options_.rrCap, path.rouletteValue() / rouletteThreshold(path, label));
-    return playRoulette(q, rng, [&](float survival) { path.scale(1.0f / survival); });
+    return playRoulette(q, rng, [&](float survival) {
+        if constexpr (std::is_same_v<Path, ControlledPath>) path.survive(survival);  // the control's weight too
+        else path.scale(1.0f / survival);
+    });
 }
 
 float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
@@ -258,135 +275,11 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
                                 },
                                 rng);
     path.ballFlight(label, b.lastFlight_mm);
+    if constexpr (std::is_same_v<Path, ControlledPath>) path.followBall(ray.d, b.exit, b.direction);
     stats.scatterEvents += uint64_t(b.collisions);
     stats.ballEvents += uint64_t(b.collisions);
     ray = {ray.o + b.exit, b.direction};
     return b.alive;
-}
-
-float PrintPt::walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control,
-                               LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
-    const Geometry& geometry = *scene_.geometry;
-    const float etaOut = 1.0f / scene_.ior;
-    const SurfaceClearance* clearance = options_.clearance ? scene_.clearance.get() : nullptr;
-    const bool balls = options_.ballWalks && scene_.clearance;
-    const RouletteRule controlRoulette{options_.rrThreshold, options_.rrCap};
-    const float controlBallMfp = std::max(1.0f, options_.ballMinMfp);
-    HalfSpaceWalker c{control.origin, ray.d, 1.0f};
-    float L = 0.0f, Lc = 0.0f;  // Lc per unit environment radiance
-    int64_t bounces = 0, controlEvents = 0;
-    bool deep = false;
-    // The control walks on alone from its state (after its pending event).
-    auto sameMaterial = [&](Label label) {
-        return path.lut->sigmaT_perMm[label] == control.sigmaT_perMm && path.lut->albedo[label] == control.albedo &&
-               path.lut->g[label] == control.g;
-    };
-    // One roulette for both, on the larger weight: neither weight can grow
-    // past the threshold (in ink the surface walk's weight drops fast while
-    // the control's may not).
-    auto sharedSurvival = [&](Label label) {
-        return std::min(options_.rrCap, std::max(path.beta, c.weight) / rouletteThreshold(path, label));
-    };
-    auto scaleBoth = [&](float survival) {
-        path.scale(1.0f / survival);
-        c.weight /= survival;
-    };
-    auto finishControl = [&](bool atCollision) {
-        const int n = options_.controlContinuations;
-        float remainder = 0.0f;
-        for (int i = 0; i < n; ++i)
-            remainder += finishHalfSpaceWalk(control, c, atCollision, controlRoulette, controlBallMfp, rng, controlEvents);
-        Lc += remainder / float(n);
-        return L - Lc * path.Le;
-    };
-    stats.paths += 1;
-    for (;;) {
-        if (balls && deep) {
-            // A ball that holds only the control's material and lies below
-            // its plane: one ball walk for both (rotated onto the control).
-            Label label;
-            float radius_mm = std::min(homogeneousBall(ray.o, label), control.depth(c.x));
-            if (radius_mm > 0.0f && sameMaterial(label) && radius_mm * control.sigmaT_perMm >= options_.ballMinMfp &&
-                dot(ray.d, c.d) > -0.99f) {
-                const Vec3f d0 = ray.d;
-                BallWalk b = pl::walkInBall(d0, radius_mm, control.sigmaT_perMm, control.g,
-                                            [&](float) {
-                                                path.collide(label);
-                                                c.weight *= control.albedo;
-                                                return playRoulette(sharedSurvival(label), rng, scaleBoth);
-                                            },
-                                            rng);
-                stats.scatterEvents += uint64_t(b.collisions);
-                stats.ballEvents += uint64_t(b.collisions);
-                if (!b.alive) return L - Lc * path.Le;  // both ended by the same roulette
-                ray = {ray.o + b.exit, b.direction};
-                c.x = c.x + rotateAtoB(d0, c.d, b.exit);
-                c.d = normalize(rotateAtoB(d0, c.d, b.direction));
-                bounces = 0;
-                continue;
-            }
-        }
-        // One optical depth for both flights.
-        float opticalDepth = sampleOpticalDepth(rng.uniform());
-        FreeFlight ff = flightFromSurface(ray, 1e30f, [&](const Ray& r, float tMax) {
-            return medium.freeFlightAtDepth(r, tMax, path.channel, opticalDepth);
-        });
-        deep = ff.scattered && clearance && ff.t_mm < clearance->at(ray.o);
-        std::optional<SurfaceHit> hit;
-        if (!deep) hit = geometry.intersectFromInside(ray, ff.scattered ? ff.t_mm : 1e30f);
-        const bool controlCollides = halfSpaceFlight(control, c, opticalDepth, Lc);
-        if ((!hit && !ff.scattered) || (hit && dot(ray.d, hit->ng) < 0)) {
-            stats.leaks += 1;  // as walk(): treated as leaving
-            path.addLight(L, 1.0f);
-            return finishControl(controlCollides);
-        }
-        const bool collides = !hit;
-        // The events part (one collides where the other leaves, or the
-        // surface walk collides in another material, whose roulette the
-        // control should not share): each walk goes on alone.
-        if (collides != controlCollides || (collides && !sameMaterial(ff.label))) {
-            float f = finishControl(controlCollides);
-            if (collides) {
-                stats.scatterEvents += 1;
-                path.collide(ff.label);
-                if (!survivesRoulette(path, ff.label, rng)) return f;
-                Point3f x = ray.at(ff.t_mm);
-                ray = {x, path.samplePhase(ff.label, ray.d, rng)};
-            } else {
-                Vec3f n = -hit->ns;
-                float F = fresnelDielectric(-dot(ray.d, n), etaOut);
-                f += (1.0f - F) * path.beta * path.Le;
-                path.scale(F);
-                if (!path.alive()) return f;
-                ray = reflectedInside(geometry, ray.d, *hit);
-            }
-            stats.paths -= 1;  // walk() counts it again
-            return f + (this->*walkSingle_)(ray, path, medium, rng, stats);
-        }
-        if (collides) {
-            // Both collide: shared roulette and phase numbers.
-            stats.scatterEvents += 1;
-            bounces = 0;
-            path.collide(ff.label);
-            if (!playRoulette(sharedSurvival(ff.label), rng, scaleBoth)) return L - Lc * path.Le;
-            float u0 = rng.uniform(), u1 = rng.uniform();
-            Point3f x = ray.at(ff.t_mm);
-            ray = {x, sampleHG(ray.d, path.g(ff.label), u0, u1).dOut};
-            c.d = sampleHG(c.d, control.g, u0, u1).dOut;
-            continue;
-        }
-        // Both reach their boundary: Fresnel weighting on each.
-        if (++bounces > kMaxBoundaryBounces) {
-            stats.trapped += 1;
-            return finishControl(false);
-        }
-        Vec3f n = -hit->ns;
-        float F = fresnelDielectric(-dot(ray.d, n), etaOut);
-        path.addLight(L, 1.0f - F);
-        path.scale(F);
-        if (!path.alive()) return finishControl(false);
-        ray = reflectedInside(geometry, ray.d, *hit);
-    }
 }
 
 float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,

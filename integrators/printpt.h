@@ -94,10 +94,6 @@ private:
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
     template <class Path>
     float rouletteThreshold(const Path& path, Label label) const;
-    // The walk of a single-channel branch with its half-space control:
-    // returns f - g (the caller adds the control's mean).
-    float walkWithControl(Ray ray, SingleChannelPath path, const HalfSpace& control, LabelMedium::Sampler& medium,
-                          Rng& rng, PathStats& stats) const;
     // Radius (mm) of a ball around p, inside the object, holding only one
     // label (set in label); 0 where there is none.
     float homogeneousBall(const Point3f& p, Label& label) const;
