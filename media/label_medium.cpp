@@ -1,5 +1,7 @@
 #include "media/label_medium.h"
 
+#include "media/collision_events.h"
+
 #include "media/label_tree.h"
 #include "media/voxel_fields_vdb.h"
 
@@ -54,28 +56,38 @@ Label LabelMedium::Sampler::labelAt(const Vec3i& v) {
     return impl_->accessor.getValue(toCoord(v));
 }
 
-FreeFlight LabelMedium::Sampler::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel,
-                                                  Rng& rng) {
+template <class Events>
+FreeFlight LabelMedium::Sampler::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
     auto& acc = impl_->accessor;
-    auto labelAt = [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); };
-    if (majorants_ == Majorants::Global)
-        return globalDeltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(),
-                                medium_.majorants_.globalMaxSigmaT(channel), medium_.luts_[channel], labelAt, rng);
-    return deltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
-                      channel, labelAt, rng);
+    auto labelAt = [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
+    const CellRay cellRay = medium_.toCellRay(ray);
+    if (majorants_ == Majorants::Global) {
+        const MajorantGrid::Bounds wholeGrid = medium_.majorants_.wholeGrid();
+        auto segments = [&](auto&& visit) {
+            return wholeGridSegment(cellRay, tMax_mm, medium_.frame(), wholeGrid, visit);
+        };
+        return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
+    }
+    auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
+        return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), medium_.majorants_, visit);
+    };
+    return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
+}
+
+FreeFlight LabelMedium::Sampler::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
+    DeltaEvents events{medium_.luts_[channel], channel};
+    return sampleFlight(ray, tMax_mm, events, rng);
 }
 
 FreeFlight LabelMedium::Sampler::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,
                                                       RGB& logRatio) {
-    auto& acc = impl_->accessor;
-    return heroDeltaTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_, hero,
-                          [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng, logRatio);
+    HeroEvents events{medium_.luts_, hero, logRatio};
+    return sampleFlight(ray, tMax_mm, events, rng);
 }
 
 FreeFlight LabelMedium::Sampler::sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight) {
-    auto& acc = impl_->accessor;
-    return spectralTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_,
-                         [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng, weight);
+    SpectralEvents events{medium_.luts_, weight};
+    return sampleFlight(ray, tMax_mm, events, rng);
 }
 
 FreeFlight LabelMedium::Sampler::freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel,

@@ -59,7 +59,7 @@ public:
 
         // Delta tracking along the ray up to tMax_mm (against the sampler's majorants).
         FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
-        // Three channels at once (see trackers.h): delta tracking for the
+        // Three channels at once (media/collision_events.h): delta tracking for the
         // hero channel with log pdf ratios of the others, or spectral tracking.
         FreeFlight sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng, RGB& logRatio);
         FreeFlight sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight);
@@ -75,6 +75,10 @@ public:
         bool nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm);
 
     private:
+        // The null-collision trackers' loop (trackers.h) over the sampler's
+        // majorants, with the events policy (collision_events.h).
+        template <class Events>
+        FreeFlight sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng);
         struct Impl;
         std::unique_ptr<Impl> impl_;
         const LabelMedium& medium_;

@@ -19,6 +19,30 @@ public:
     static constexpr int kBrickLog2 = 3;
     static constexpr int kBrickSize = 1 << kBrickLog2;
 
+    static constexpr int kSeveralLabels = -1, kOnlyVoid = -2;  // solidLabel's (below)
+    // What a region of the grid holds: bounds of sigma_t per channel and its labels.
+    struct Bounds {
+        static constexpr int kNoLabelYet = -2;  // soleLabel before any voxel is seen
+        RGB maxSigmaT{0, 0, 0};
+        RGB minSigmaT{0, 0, 0};
+        int soleLabel = -1;  // the label of every voxel, or -1 (several)
+        int solidLabel = kOnlyVoid;
+        // Nothing seen yet.
+        static Bounds none() {
+            constexpr float inf = std::numeric_limits<float>::infinity();
+            return {{-inf, -inf, -inf}, {inf, inf, inf}, kNoLabelYet, kOnlyVoid};
+        }
+        // Adds label l (and its sigma_t per channel) to what the region holds.
+        void include(Label l, const std::array<ChannelLut, 3>& luts, Label voidLabel) {
+            for (int c = 0; c < 3; ++c) {
+                maxSigmaT[c] = std::max(maxSigmaT[c], luts[c].sigmaT_perMm[l]);
+                minSigmaT[c] = std::min(minSigmaT[c], luts[c].sigmaT_perMm[l]);
+            }
+            soleLabel = soleLabel == kNoLabelYet || soleLabel == int(l) ? int(l) : -1;
+            if (l != voidLabel) solidLabel = solidLabel == kOnlyVoid || solidLabel == int(l) ? int(l) : kSeveralLabels;
+        }
+    };
+
     MajorantGrid() = default;
     MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts);
     // After relabelling `changed` voxels of `grid`: recomputes only their
@@ -39,7 +63,6 @@ public:
     // holds several, kOnlyVoid if none. printpt's control variate asks
     // whether a region is one resin (the void skin between the mesh and the
     // voxels aside).
-    static constexpr int kSeveralLabels = -1, kOnlyVoid = -2;
     int solidLabel(const Vec3i& brick) const { return at(brick).solidLabel; }
     // The same for the brick of a voxel; void surrounds the grid.
     int solidLabelAt(const Vec3i& voxel) const {
@@ -50,6 +73,9 @@ public:
     }
     // The largest sigma_t anywhere, per channel.
     float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
+    // A brick's bounds; the whole grid's (its largest sigma_t, several labels).
+    const Bounds& bounds(const Vec3i& brick) const { return at(brick); }
+    Bounds wholeGrid() const;
 
     size_t brickIndex(const Vec3i& b) const {
         return (size_t(b.z - brickMin_.z) * (brickMax_.y - brickMin_.y) + (b.y - brickMin_.y)) *
@@ -60,31 +86,14 @@ public:
     }
 
 private:
-    static constexpr int kNoLabelYet = -2;  // soleLabel before any voxel is seen
-    struct Bounds {
-        RGB maxSigmaT{0, 0, 0};
-        RGB minSigmaT{0, 0, 0};
-        int soleLabel = -1;
-        int solidLabel = kOnlyVoid;
-        // Nothing seen yet.
-        static Bounds none() {
-            constexpr float inf = std::numeric_limits<float>::infinity();
-            return {{-inf, -inf, -inf}, {inf, inf, inf}, kNoLabelYet, kOnlyVoid};
-        }
-        // Adds label l (and its sigma_t per channel) to what the brick holds.
-        void include(Label l, const std::array<ChannelLut, 3>& luts, Label voidLabel) {
-            for (int c = 0; c < 3; ++c) {
-                maxSigmaT[c] = std::max(maxSigmaT[c], luts[c].sigmaT_perMm[l]);
-                minSigmaT[c] = std::min(minSigmaT[c], luts[c].sigmaT_perMm[l]);
-            }
-            soleLabel = soleLabel == kNoLabelYet || soleLabel == int(l) ? int(l) : -1;
-            if (l != voidLabel) solidLabel = solidLabel == kOnlyVoid || solidLabel == int(l) ? int(l) : kSeveralLabels;
-        }
-    };
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
     Vec3i brickMin_, brickMax_;
     std::vector<Bounds> bricks_;
     RGB globalMax_{0, 0, 0};
 };
+
+inline MajorantGrid::Bounds MajorantGrid::wholeGrid() const {
+    return {globalMax_, {0, 0, 0}, -1, kSeveralLabels};
+}
 
 }  // namespace pl

@@ -1,15 +1,17 @@
 // Trackers over the piecewise-constant label medium, in cell space (see
 // label_grid.h) with the ray parameter t in millimetres.
-//  - deltaTrack: delta (Woodcock) tracking against the per-brick majorant;
-//    samples a free-flight distance with pdf sigma_t(t) T(t);
-//    globalDeltaTrack: the same with one majorant for the whole grid.
+//  - sampleMajorantFlight: the null-collision trackers' one loop over
+//    majorant segments (per brick, or the whole grid's for the textbook
+//    tracker); how the channels a path carries decide each tentative
+//    collision (delta, hero or spectral tracking) is the events policy's
+//    (media/collision_events.h).
 //  - regularTrack: exact transmittance by 3D-DDA through the voxels
 //    (Amanatides-Woo), skipping void bricks and stepping whole uniform bricks.
 //  - inverseTrack: the free flight whose optical depth is a given value
 //    (inversion of the transmittance by the same DDA): two walks that share
 //    that value collide at the same place wherever their media agree
 //    (printpt's control variate).
-// Both take the label lookup as a template parameter so the hot loop inlines
+// All take the label lookup as a template parameter so the hot loop inlines
 // the OpenVDB accessor (label_medium.cpp) or a dense array (tests).
 #pragma once
 
@@ -61,7 +63,7 @@ PL_ALWAYS_INLINE inline Vec3i clampToBox(Vec3i v, const Vec3i& lo, const Vec3i& 
 // crosses up to tMax_mm, in order, until it reports a collision (free flights
 // are memoryless: restarting at a brick's entry is exact).
 template <class TrackBrick>
-FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, TrackBrick&& trackBrick) {
+PL_ALWAYS_INLINE inline FreeFlight trackBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, TrackBrick&& trackBrick) {
     const Vec3i fmax = frame.indexMax();
     constexpr int kB = MajorantGrid::kBrickSize;
     // Most free flights start inside the grid (no clipping); others start
@@ -107,196 +109,79 @@ inline void brickVoxels(const Vec3i& brick, const GridFrame& frame, Vec3i& lo, V
           std::min(brick.z * kB + kB, fmax.z)};
 }
 
-template <class LabelLookup>
-FreeFlight deltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame,
-                      const MajorantGrid& maj, const ChannelLut& lut, int channel,
-                      LabelLookup&& labelAt, Rng& rng) {
-    // Tentative collisions at the brick's majorant over [tStart, tEnd),
-    // accepted with sigma_t / majorant (always, in a uniform brick). The
-    // optical depth (at the majorants) left to the next tentative collision
-    // carries over into the next brick: it is Exp(1) whatever was spent, so
-    // a flight that crosses bricks needs no new logarithm.
+// One stretch [tStart, tEnd) of a ray over which one majorant holds: a
+// brick's (or, for the textbook tracker, the whole grid's) bounds of
+// sigma_t, and the voxels lookups in it are confined to (round-off must
+// not take a lookup out of it; unset where the bounds have a sole label).
+struct MajorantSegment {
+    float tStart, tEnd;
+    const MajorantGrid::Bounds* bounds;
+    Vec3i lo, hi;
+};
+
+// The ray's segments up to tMax_mm, brick by brick, in order: visit(segment,
+// out) until it reports a collision (as trackBricks).
+template <class Visit>
+PL_ALWAYS_INLINE inline FreeFlight forEachBrickSegment(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                               Visit&& visit) {
+    return trackBricks(ray, tMax_mm, frame,
+                       [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
+                           MajorantSegment segment{tStart, tEnd, &maj.bounds(brick), {}, {}};
+                           if (segment.bounds->soleLabel < 0) brickVoxels(brick, frame, segment.lo, segment.hi);
+                           return visit(segment, out);
+                       });
+}
+// The ray's one segment inside the grid frame, under the whole grid's bounds.
+template <class Visit>
+FreeFlight wholeGridSegment(const CellRay& ray, float tMax_mm, const GridFrame& frame,
+                            const MajorantGrid::Bounds& wholeGrid, Visit&& visit) {
+    MajorantSegment segment{0.0f, tMax_mm, &wholeGrid, frame.indexMin, frame.indexMax()};
+    if (!clipRayToBox(ray.o, ray.d, segment.lo, segment.hi, segment.tStart, segment.tEnd)) return {};
+    FreeFlight out;
+    return visit(segment, out) ? out : FreeFlight{};
+}
+
+// The one loop of the null-collision trackers (delta, hero and spectral
+// tracking; pbrt-v4's SampleT_maj): tentative collisions at each segment's
+// majorant, a label lookup at each (none where the segment has a sole
+// label), and the events policy (media/collision_events.h) deciding
+// whether it is real. The optical depth left to the next tentative
+// collision carries over into the next segment: it is Exp(1) whatever was
+// spent, so a flight that crosses bricks needs no new logarithm.
+//   events.enter(segment) -> the majorant to sample with (<= 0: nothing collides)
+//   events.collides(t, label, rng) -> whether the tentative collision is real
+//   events.leave(t) : the segment is crossed up to t without a real collision
+// forEachSegment(visit) is forEachBrickSegment or wholeGridSegment bound to the ray.
+template <class ForEachSegment, class Events, class LabelLookup>
+PL_ALWAYS_INLINE inline FreeFlight sampleMajorantFlight(const CellRay& ray, ForEachSegment&& forEachSegment,
+                                                        Events& events, LabelLookup&& labelAt, Rng& rng) {
     float tauLeft = -1.0f;  // < 0: draw a new one
-    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
-        float sigmaMaj = maj.maxSigmaT(brick, channel);
-        if (sigmaMaj <= 0.0f) return false;  // nothing to collide with
-        const float invMaj = 1.0f / sigmaMaj;
-        // 1 - u is exact for u = k 2^-24, so logf loses nothing against log1pf.
-        auto nextTentative = [&](float from) PL_ALWAYS_INLINE {
-            if (tauLeft < 0.0f) tauLeft = sampleOpticalDepth(rng.uniform());
-            float t = from + tauLeft * invMaj;
-            tauLeft = t >= tEnd ? tauLeft - (tEnd - from) * sigmaMaj : -1.0f;
-            return t;
-        };
-        const int sole = maj.soleLabel(brick);
-        if (sole >= 0) {
-            // One material: every tentative collision is real, no lookup.
-            float t = nextTentative(tStart);
-            if (t >= tEnd) return false;
-            out = FreeFlight::collision(t, Label(sole));
-            return true;
-        }
-        const bool uniform = sigmaMaj == maj.minSigmaT(brick, channel);
-        Vec3i lo, hi;
-        brickVoxels(brick, frame, lo, hi);
-        float t = tStart;
-        for (;;) {
-            t = nextTentative(t);
-            if (t >= tEnd) return false;
-            Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
-            if (uniform || rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) {
-                out = FreeFlight::collision(t, l);
-                return true;
-            }
-        }
-    };
-    return trackBricks(ray, tMax_mm, frame, trackBrick);
-}
-
-// Textbook delta (Woodcock) tracking: one majorant for the whole grid,
-// the channel's largest sigma_t, a label lookup at every tentative
-// collision. The baseline the per-brick majorants are measured against
-// (Brecka 4.6: in a brick of thin resin most tentative collisions of a
-// global majorant are null).
-template <class LabelLookup>
-FreeFlight globalDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, float sigmaMaj,
-                            const ChannelLut& lut, LabelLookup&& labelAt, Rng& rng) {
-    if (sigmaMaj <= 0.0f) return {};
-    const Vec3i fmax = frame.indexMax();
-    float t = 0.0f, tEnd = tMax_mm;
-    if (!clipRayToBox(ray.o, ray.d, frame.indexMin, fmax, t, tEnd)) return {};
-    const float invMaj = 1.0f / sigmaMaj;
-    for (;;) {
-        t += sampleOpticalDepth(rng.uniform()) * invMaj;
-        if (t >= tEnd) return {};
-        Label l = labelAt(clampToBox(ray.voxelAt(t), frame.indexMin, fmax));
-        if (rng.uniform() * sigmaMaj < lut.sigmaT_perMm[l]) return FreeFlight::collision(t, l);
-    }
-}
-
-// Hero-channel delta tracking for three channels at once: distances are
-// sampled with the hero channel's majorants, as deltaTrack would, and
-// logRatio[c] += log(p_c / p_hero) of what was sampled, where p_c is the
-// density with which channel c's own delta tracking would have taken the
-// same tentative collisions, null choices and real collision (or passed
-// the segment without one). The per-event ratios are accumulated in log
-// space: a path of hundreds of events would underflow a product of pdfs.
-template <class LabelLookup>
-FreeFlight heroDeltaTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
-                          const std::array<ChannelLut, 3>& luts, int hero, LabelLookup&& labelAt, Rng& rng,
-                          RGB& logRatio) {
-    const ChannelLut& heroLut = luts[hero];
-    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
-        const RGB& sigmaMaj = maj.maxSigmaT(brick);
-        const float heroMaj = sigmaMaj[hero];
-        // Channel c would have taken no tentative collision over [tStart, t).
-        auto flew = [&](float t) {
-            for (int c = 0; c < 3; ++c) logRatio[c] -= (sigmaMaj[c] - heroMaj) * (t - tStart);
-        };
-        if (heroMaj <= 0.0f) {
-            flew(tEnd);
+    return forEachSegment([&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
+        const float sigmaMaj = events.enter(segment);
+        if (sigmaMaj <= 0.0f) {
+            events.leave(segment.tEnd);
             return false;
         }
-        const float invMaj = 1.0f / heroMaj;
-        const int sole = maj.soleLabel(brick);
-        if (sole >= 0) {
-            // One material: the majorants are its sigma_t, every collision is real.
-            float t = tStart + sampleOpticalDepth(rng.uniform()) * invMaj;
-            if (t >= tEnd) {
-                flew(tEnd);
-                return false;
-            }
-            flew(t);
-            for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[sole] - heroLut.logSigmaT[sole];
-            out = FreeFlight::collision(t, Label(sole));
-            return true;
-        }
-        Vec3i lo, hi;
-        brickVoxels(brick, frame, lo, hi);
-        // Null collisions' ratios sigma_n,c / sigma_n,hero, folded into the
-        // logs when the brick is done (or before the product could overflow).
-        std::array<double, 3> nullRatio{1, 1, 1};
-        bool nulls = false;
-        auto foldNulls = [&] {
-            if (!nulls) return;
-            for (int c = 0; c < 3; ++c) logRatio[c] += float(std::log(nullRatio[c]));
-            nullRatio = {1, 1, 1};
-            nulls = false;
-        };
-        float t = tStart;
-        for (;;) {
-            t += sampleOpticalDepth(rng.uniform()) * invMaj;
-            if (t >= tEnd) {
-                flew(tEnd);
-                foldNulls();
-                return false;
-            }
-            Label l = labelAt(clampToBox(ray.voxelAt(t), lo, hi));
-            const float heroSigma = heroLut.sigmaT_perMm[l];
-            if (rng.uniform() * heroMaj < heroSigma) {
-                flew(t);
-                foldNulls();
-                for (int c = 0; c < 3; ++c) logRatio[c] += luts[c].logSigmaT[l] - heroLut.logSigmaT[l];
-                out = FreeFlight::collision(t, l);
-                return true;
-            }
-            // Null collision: heroMaj > heroSigma here.
-            const float heroNull = heroMaj - heroSigma;
-            for (int c = 0; c < 3; ++c) nullRatio[c] *= double(sigmaMaj[c] - luts[c].sigmaT_perMm[l]) / heroNull;
-            nulls = true;
-            for (int c = 0; c < 3; ++c)
-                if (nullRatio[c] > 1e100) foldNulls();  // rare: keep the product finite
-        }
-    };
-    return trackBricks(ray, tMax_mm, frame, trackBrick);
-}
-
-// Spectral tracking (Kutz et al. 2017) for three channels at once: one
-// majorant, the largest of the channels', and at each tentative collision a
-// real or a null event chosen with the history-aware probabilities
-// P_real ~ max_c |w_c sigma_t,c|, P_null ~ max_c |w_c sigma_n,c|; the
-// channel weights w (the path throughput) take sigma / (majorant P) of the
-// event. (Absorption stays in the caller's albedo weight.)
-template <class LabelLookup>
-FreeFlight spectralTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
-                         const std::array<ChannelLut, 3>& luts, LabelLookup&& labelAt, Rng& rng, RGB& weight) {
-    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight& out) PL_ALWAYS_INLINE {
-        const RGB& brickMaj = maj.maxSigmaT(brick);
-        const float sigmaMaj = std::max(brickMaj[0], std::max(brickMaj[1], brickMaj[2]));
-        if (sigmaMaj <= 0.0f) return false;
         const float invMaj = 1.0f / sigmaMaj;
-        const int sole = maj.soleLabel(brick);
-        Vec3i lo, hi;
-        if (sole < 0) brickVoxels(brick, frame, lo, hi);
-        float t = tStart;
+        const int sole = segment.bounds->soleLabel;
+        float t = segment.tStart;
         for (;;) {
-            t += sampleOpticalDepth(rng.uniform()) * invMaj;
-            if (t >= tEnd) return false;
-            Label l = sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), lo, hi));
-            RGB sigma{luts[0].sigmaT_perMm[l], luts[1].sigmaT_perMm[l], luts[2].sigmaT_perMm[l]};
-            float pReal = 0.0f, pNull = 0.0f;
-            for (int c = 0; c < 3; ++c) {
-                pReal = std::max(pReal, std::abs(weight[c] * sigma[c]));
-                pNull = std::max(pNull, std::abs(weight[c] * (sigmaMaj - sigma[c])));
+            if (tauLeft < 0.0f) tauLeft = sampleOpticalDepth(rng.uniform());
+            const float tNext = t + tauLeft * invMaj;
+            if (tNext >= segment.tEnd) {
+                tauLeft -= (segment.tEnd - t) * sigmaMaj;
+                events.leave(segment.tEnd);
+                return false;
             }
-            const float pSum = pReal + pNull;
-            if (!(pSum > 0.0f)) {
-                // Nothing left to carry: end here as a real collision of weight 0.
-                weight = {0, 0, 0};
+            tauLeft = -1.0f;
+            t = tNext;
+            const Label l = sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
+            if (events.collides(t, l, rng)) {
                 out = FreeFlight::collision(t, l);
                 return true;
             }
-            if (rng.uniform() * pSum < pReal) {
-                const float scale = pSum / (sigmaMaj * pReal);
-                for (int c = 0; c < 3; ++c) weight[c] *= sigma[c] * scale;
-                out = FreeFlight::collision(t, l);
-                return true;
-            }
-            const float scale = pSum / (sigmaMaj * pNull);
-            for (int c = 0; c < 3; ++c) weight[c] *= (sigmaMaj - sigma[c]) * scale;
         }
-    };
-    return trackBricks(ray, tMax_mm, frame, trackBrick);
+    });
 }
 
 // Russian roulette on a transmittance estimate: once the estimate

@@ -136,8 +136,6 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         const std::string majorants = json.string(ren, "majorants", "render", "bricks");
         if (majorants != "bricks" && majorants != "global") json.fail("render.majorants", "must be bricks or global");
         r.majorants = majorants == "global" ? Majorants::Global : Majorants::PerBrick;
-        if (r.majorants == Majorants::Global && r.channelSampling != ChannelSampling::Separate)
-            json.fail("render.majorants", "global is a single-channel tracker: it needs channel_sampling separate");
         r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
         r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
         for (const PrintPtParameter& p : printPtParameters()) {

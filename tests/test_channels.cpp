@@ -19,7 +19,8 @@ const char* nameOf(ChannelSampling s) { return s == ChannelSampling::Hero ? "her
 
 // Purely absorbing 4 x 4 x 0.5 mm slab at IOR 1, seen head-on through its
 // middle: each channel's mean must be exp(-optical depth of that channel).
-void expectBeerLambert(const std::function<Label(const Vec3i&)>& labelOf, const MaterialTable& table, RGB expected) {
+void expectBeerLambert(const std::function<Label(const Vec3i&)>& labelOf, const MaterialTable& table, RGB expected,
+                       Majorants majorants = Majorants::PerBrick) {
     Scene scene = test::boxScene({40, 40, 10}, {0.1f, 0.1f, 0.05f}, labelOf, table, 1.0f);
     CameraPose pose{{2, 2, 5}, {2, 2, 0}, {0, 1, 0}};
     OrthographicSensor sensor(pose, 1.0f, 16, 16);
@@ -29,6 +30,7 @@ void expectBeerLambert(const std::function<Label(const Vec3i&)>& labelOf, const 
             s.integrator = integrator;
             s.spp = 192;
             s.channelSampling = sampling;
+            s.majorants = majorants;
             s.printpt.branches = 1;
             Estimate e = test::renderMean(scene, sensor, s);
             for (int c = 0; c < 3; ++c) {
@@ -55,6 +57,8 @@ TEST(OnePassChannels, BeerLambertThroughLayersOfTwoMaterials) {
     RGB expected;
     for (int c = 0; c < 3; ++c) expected[c] = std::exp(-(a[c] + b[c]) * 0.25f);
     expectBeerLambert([](const Vec3i& v) { return Label(v.z % 2); }, t, expected);
+    // The textbook tracker (one majorant for the grid) through the same loop.
+    expectBeerLambert([](const Vec3i& v) { return Label(v.z % 2); }, t, expected, Majorants::Global);
 }
 
 // Scattering scenes: one pass for three channels agrees with three passes.

@@ -260,18 +260,12 @@ TEST(Cli, UnknownSceneKeysAreTypos) {
     expectCleanFailure(s, s.render(), "scene.json", "render.sps");
 }
 
-TEST(Cli, MajorantsAreBricksOrAGlobalOneForSeparatePasses) {
+TEST(Cli, MajorantsAreBricksOrAGlobalOne) {
     TestScene unknown("majorants_unknown");
     unknown.scene["render"]["majorants"] = "leaf";
     CliRun r = unknown.render();
     expectCleanFailure(unknown, r, "scene.json", "render.majorants");
     EXPECT_NE(r.err.find("must be bricks or global"), std::string::npos) << r.err;
-    TestScene hero("majorants_hero");
-    hero.scene["render"]["majorants"] = "global";
-    hero.scene["render"]["channel_sampling"] = "hero";
-    r = hero.render();
-    expectCleanFailure(hero, r, "scene.json", "render.majorants");
-    EXPECT_NE(r.err.find("channel_sampling separate"), std::string::npos) << r.err;
 }
 
 // printpt's switches: one table for the scene file and bench's overrides.
