@@ -11,7 +11,7 @@
 
 namespace pl {
 
-bool HalfSpace::exit(const Point3f& x, const Vec3f& d, float& t_mm, Vec3f& outward) const {
+std::optional<HalfSpace::Exit> HalfSpace::exit(const Point3f& x, const Vec3f& d) const {
     // F(t) = z + (kappaS u^2 + kappaT v^2) / 2 along the ray, negative
     // inside: a t^2 + b t + c with a >= 0 and c <= 0 has one root t >= 0.
     const Vec3f r = x - origin;
@@ -19,16 +19,16 @@ bool HalfSpace::exit(const Point3f& x, const Vec3f& d, float& t_mm, Vec3f& outwa
     const float a = 0.5f * (kappaS_perMm * du * du + kappaT_perMm * dv * dv);
     const float b = dot(d, normal) + kappaS_perMm * u * du + kappaT_perMm * v * dv;
     const float c = std::min(0.0f, dot(r, normal) + 0.5f * (kappaS_perMm * u * u + kappaT_perMm * v * v));
+    float t_mm;
     if (a <= 1e-12f * std::abs(b)) {
-        if (b <= 0.0f) return false;
+        if (b <= 0.0f) return std::nullopt;
         t_mm = -c / b;
     } else {
         const float root = std::sqrt(b * b - 4.0f * a * c);
         t_mm = b >= 0.0f ? -2.0f * c / (b + root) : (root - b) / (2.0f * a);
     }
     const float ue = u + du * t_mm, ve = v + dv * t_mm;
-    outward = normalize(normal + axisS * (kappaS_perMm * ue) + axisT * (kappaT_perMm * ve));
-    return true;
+    return Exit{t_mm, normalize(normal + axisS * (kappaS_perMm * ue) + axisT * (kappaT_perMm * ve))};
 }
 
 bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth, float& light) {
@@ -49,13 +49,11 @@ bool halfSpaceFlight(const HalfSpace& hs, HalfSpaceWalker& w, float opticalDepth
         }
     };
     if (hs.curved) {
-        float tExit;
-        Vec3f outward;
-        if (hs.exit(w.x, w.d, tExit, outward) && tExit <= t) {
-            t = tExit;
+        if (auto e = hs.exit(w.x, w.d); e && e->t_mm <= t) {
+            t = e->t_mm;
             crossed = true;
-            crossedNormal = outward;
-            cosCrossed = std::max(0.0f, dot(w.d, outward));
+            crossedNormal = e->outward;
+            cosCrossed = std::max(0.0f, dot(w.d, e->outward));
         }
     } else {
         reach(hs.origin, hs.normal);

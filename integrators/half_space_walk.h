@@ -24,6 +24,7 @@
 #include <limits>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <tuple>
 
 #include "core/rng.h"
@@ -55,9 +56,13 @@ struct HalfSpace {
         float d = dot(origin - x, normal);
         return hasSide ? std::min(d, dot(sideOrigin - x, sideNormal)) : d;
     }
-    // Curved: the distance along d from x inside to the boundary (mm) and
-    // the outward normal there; false if the ray never leaves the region.
-    bool exit(const Point3f& x, const Vec3f& d, float& t_mm, Vec3f& outward) const;
+    // Curved: where the ray from x inside along d leaves the region; none
+    // if it never does.
+    struct Exit {
+        float t_mm;      // distance along d
+        Vec3f outward;   // the boundary's outward normal there
+    };
+    std::optional<Exit> exit(const Point3f& x, const Vec3f& d) const;
 
 private:
     float curvedDepth(const Point3f& x) const {

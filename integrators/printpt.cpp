@@ -155,12 +155,12 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
         if (balls && deep) {
             // Deep in one material: walk to the edge of a ball that holds
             // nothing else, without grid lookups or boundary queries.
-            Label label;
-            float radius_mm = homogeneousBall(ray.o, label);
-            if constexpr (kControlled) radius_mm = std::min(radius_mm, path.ballLimit_mm(ray.d));
-            if (radius_mm > 0.0f && path.canWalkBall(label) &&
-                radius_mm * path.ballSigmaT(label) >= options_.ballMinMfp) {
-                if (!walkInBall(ray, radius_mm, label, path, rng, stats)) return end(true);
+            std::optional<Ball> ball = homogeneousBall(ray.o);
+            if constexpr (kControlled)
+                if (ball) ball->radius_mm = std::min(ball->radius_mm, path.ballLimit_mm(ray.d));
+            if (ball && ball->radius_mm > 0.0f && path.canWalkBall(ball->label) &&
+                ball->radius_mm * path.ballSigmaT(ball->label) >= options_.ballMinMfp) {
+                if (!walkInBall(ray, ball->radius_mm, ball->label, path, rng, stats)) return end(true);
                 bounces = 0;
                 hitWeight = 1.0f;
                 continue;
@@ -206,8 +206,12 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             path.collide(ff.label);
             if (!survivesRoulette(path, ff.label, rng)) return end(true);
             Point3f x = ray.at(ff.t_mm);
-            Lobe lobe;
-            if constexpr (kNee) path.addLight(L, nextEvent(x, ray.d, ff.label, path.channel, medium, rng, lobe));
+            NextEvent nee;
+            if constexpr (kNee) {
+                nee = nextEvent(x, ray.d, ff.label, path.channel, medium, rng);
+                path.addLight(L, nee.light);
+            }
+            const Lobe& lobe = nee.lobe;
             Vec3f dOut = path.samplePhase(ff.label, ray.d, rng);
             hitWeight = 1.0f;
             if (lobe.kappa > 0) {
@@ -256,12 +260,11 @@ bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
     });
 }
 
-float PrintPt::homogeneousBall(const Point3f& p, Label& label) const {
+std::optional<PrintPt::Ball> PrintPt::homogeneousBall(const Point3f& p) const {
     const LabelMedium& medium = *scene_.medium;
     const UniformRegions::Cell cell = medium.uniformRegions().at(medium.voxelAt(p));
-    if (cell.radius_mm <= 0.0f) return 0.0f;
-    label = Label(cell.label);
-    return std::min(cell.radius_mm, scene_.clearance->at(p));
+    if (cell.radius_mm <= 0.0f) return std::nullopt;
+    return Ball{std::min(cell.radius_mm, scene_.clearance->at(p)), Label(cell.label)};
 }
 
 template <class Path>
@@ -282,32 +285,34 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
     return b.alive;
 }
 
-float PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,
-                         LabelMedium::Sampler& medium, Rng& rng, Lobe& lobe) const {
-    Vec3f normal;
-    float sdf_mm;
+PrintPt::NextEvent PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,
+                                      LabelMedium::Sampler& medium, Rng& rng) const {
+    NextEvent result;
+    Lobe& lobe = result.lobe;
     float uPrune = rng.uniform(), u0 = rng.uniform(), u1 = rng.uniform();  // drawn always: streams stay aligned
-    if (!medium.nearestSurface(x, normal, sdf_mm)) return 0.0f;
+    auto surface = medium.nearestSurface(x);
+    if (!surface) return result;
     const ChannelLut& lut = scene_.medium->lut(channel);
     // Deep below the surface in dense resin, light comes out close to the normal.
-    float depth = lut.sigmaT_perMm[label] * std::max(0.0f, -sdf_mm);
-    lobe.axis = normal;
+    float depth = lut.sigmaT_perMm[label] * std::max(0.0f, -surface->sdf_mm);
+    lobe.axis = surface->normal;
     lobe.kappa = std::clamp(depth, 1.0f, options_.neeMaxKappa);
     lobe.probability = std::clamp(options_.neePruneScale * std::exp(-depth), options_.neeMinProbability, 1.0f);
-    if (!(uPrune < lobe.probability)) return 0.0f;  // pruned; the phase path's weight knows
+    if (!(uPrune < lobe.probability)) return result;  // pruned; the phase path's weight knows
     DirectionSample ds = sampleVMF(lobe.axis, lobe.kappa, u0, u1);
     // The boundary straight along the sampled direction, and what gets there.
     auto hit = scene_.geometry->intersectFromInside({x, ds.d});
-    if (!hit || dot(ds.d, hit->ng) <= 0) return 0.0f;
+    if (!hit || dot(ds.d, hit->ng) <= 0) return result;
     float T = medium.transmittance({x, ds.d}, hit->t, channel, {options_.neeRouletteDepth, &rng});
-    if (T <= 0.0f) return 0.0f;
+    if (T <= 0.0f) return result;
     float F = fresnelDielectric(dot(ds.d, hit->ns), 1.0f / scene_.ior);
     float phase = hgPhase(dot(dIn, ds.d), lut.g[label]);
     // Balance heuristic over the two techniques; NEE's density includes the
     // probability that it ran at all.
     float pNee = lobe.probability * ds.pdf;
     float misWeight = pNee / (pNee + phase);
-    return misWeight * phase * T * (1.0f - F) / pNee;
+    result.light = misWeight * phase * T * (1.0f - F) / pNee;
+    return result;
 }
 
 }  // namespace pl

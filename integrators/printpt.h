@@ -94,9 +94,13 @@ private:
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
     template <class Path>
     float rouletteThreshold(const Path& path, Label label) const;
-    // Radius (mm) of a ball around p, inside the object, holding only one
-    // label (set in label); 0 where there is none.
-    float homogeneousBall(const Point3f& p, Label& label) const;
+    // A ball around p, inside the object, that holds only one label; none
+    // where there is none.
+    struct Ball {
+        float radius_mm;
+        Label label;
+    };
+    std::optional<Ball> homogeneousBall(const Point3f& p) const;
     // Random walk from ray.o in the ball of radius_mm around it, which
     // holds only label: collisions without lookups or boundary queries,
     // until a free flight would leave the ball; ray becomes the point where
@@ -107,15 +111,19 @@ private:
     WalkFunction<HeroPath> walkHero_;
     WalkFunction<SpectralPath> walkSpectral_;
     // Light leaving the object straight from x towards the nearest surface,
-    // MIS-weighted against phase sampling, per unit environment radiance.
-    // Sets the lobe for later weights.
+    // MIS-weighted against phase sampling, per unit environment radiance,
+    // and the lobe it was sampled from (for the phase path's weight).
     struct Lobe {
         Vec3f axis;
         float kappa = 0;        // 0: no lobe (no NEE at this vertex)
         float probability = 1;  // chance that NEE ran here (pruning)
     };
-    float nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Sampler& medium,
-                    Rng& rng, Lobe& lobe) const;
+    struct NextEvent {
+        float light = 0.0f;
+        Lobe lobe;
+    };
+    NextEvent nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Sampler& medium,
+                        Rng& rng) const;
 
     const Scene& scene_;
     PrintPtOptions options_;

@@ -40,14 +40,12 @@ LabelMedium::Sampler::Sampler(const LabelMedium& medium, Majorants majorants)
     : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium),
       majorants_(majorants) {}
 
-bool LabelMedium::Sampler::nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm) {
-    if (!impl_->normal) return false;
+std::optional<LabelMedium::Sampler::NearestSurface> LabelMedium::Sampler::nearestSurface(const Point3f& p) {
+    if (!impl_->normal) return std::nullopt;
     openvdb::Coord c = toCoord(medium_.voxelAt(p));
     openvdb::Vec3s n;
-    if (!impl_->normal->probeValue(c, n)) return false;  // outside the band
-    normal = {n.x(), n.y(), n.z()};
-    sdf_mm = impl_->sdf->getValue(c);
-    return true;
+    if (!impl_->normal->probeValue(c, n)) return std::nullopt;  // outside the band
+    return NearestSurface{{n.x(), n.y(), n.z()}, impl_->sdf->getValue(c)};
 }
 LabelMedium::Sampler::~Sampler() = default;
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 
 #include "core/rng.h"
 #include "media/label_grid.h"
@@ -71,8 +72,12 @@ public:
         float transmittance(const Ray& ray, float tMax_mm, int channel, TransmittanceRoulette roulette = {});
         Label labelAt(const Vec3i& voxel);
         // Outward normal of the nearest surface and signed distance (mm) at
-        // p, from the surface fields; false outside their band.
-        bool nearestSurface(const Point3f& p, Vec3f& normal, float& sdf_mm);
+        // p, from the surface fields; none outside their band.
+        struct NearestSurface {
+            Vec3f normal;
+            float sdf_mm;
+        };
+        std::optional<NearestSurface> nearestSurface(const Point3f& p);
 
     private:
         // The null-collision trackers' loop (trackers.h) over the sampler's

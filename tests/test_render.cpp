@@ -339,9 +339,9 @@ TEST(HalfSpaceWalk, CurvedRegionExitsDepthAndMean) {
         const Point3f x{4.0f * (rng.uniform() - 0.5f), 4.0f * (rng.uniform() - 0.5f), -3.0f * rng.uniform() - 0.01f};
         if (outside(x) >= 0.0f) continue;
         const Vec3f d = anyDirection();
-        float t;
-        Vec3f n;
-        if (curved.exit(x, d, t, n)) {
+        if (auto exit = curved.exit(x, d)) {
+            const float t = exit->t_mm;
+            const Vec3f n = exit->outward;
             const Point3f e = x + d * t;
             EXPECT_NEAR(outside(e), 0.0f, 1e-4f * (1.0f + t)) << i;
             // The normal is the paraboloid's gradient, outward.

@@ -2,6 +2,7 @@
 
 #include <cstring>
 
+#include <Eigen/Dense>
 #include <tbb/task_arena.h>
 
 #include "runtime/scheduler.h"
@@ -9,27 +10,6 @@
 #include "media/slab_transport.h"
 
 namespace pl {
-
-namespace {
-
-// The solution of the 3x3 system a x = b by Cramer's rule; false if singular.
-bool solve3x3(const double a[3][3], const double b[3], double x[3]) {
-    auto det = [](const double m[3][3]) {
-        return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
-               m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
-    };
-    const double d = det(a);
-    if (!(std::abs(d) > 1e-300)) return false;
-    for (int col = 0; col < 3; ++col) {
-        double m[3][3];
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) m[r][c] = c == col ? b[r] : a[r][c];
-        x[col] = det(m) / d;
-    }
-    return true;
-}
-
-}  // namespace
 
 ControlVariate::ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed,
                                std::shared_ptr<HalfSpaceMeans> monteCarloMeans)
@@ -301,7 +281,8 @@ bool ControlVariate::curvedFits(const Ray& inside, float reach_mm, float diffusi
     const Frame plane(control.normal);
     constexpr int kProbes = 16;
     float xs[kProbes], ys[kProbes], drops[kProbes];
-    double normal[3][3] = {}, rhs[3] = {};
+    Eigen::Matrix<double, kProbes, 3> basis;
+    Eigen::Matrix<double, kProbes, 1> drop;
     for (int i = 0; i < kProbes; ++i) {
         const float angle = float(i / 2) * (kPi / 4.0f), f = i % 2 ? 1.0f : 0.5f;
         const Vec3f along = plane.s * std::cos(angle) + plane.t * std::sin(angle);
@@ -311,14 +292,12 @@ bool ControlVariate::curvedFits(const Ray& inside, float reach_mm, float diffusi
         xs[i] = dot(off, plane.s);
         ys[i] = dot(off, plane.t);
         drops[i] = -dot(off, control.normal);
-        const double basis[3] = {0.5 * xs[i] * xs[i], double(xs[i]) * ys[i], 0.5 * ys[i] * ys[i]};
-        for (int a = 0; a < 3; ++a) {
-            rhs[a] += basis[a] * drops[i];
-            for (int b = 0; b < 3; ++b) normal[a][b] += basis[a] * basis[b];
-        }
+        basis.row(i) << 0.5 * xs[i] * xs[i], double(xs[i]) * ys[i], 0.5 * ys[i] * ys[i];
+        drop(i) = drops[i];
     }
-    double k[3];
-    if (!solve3x3(normal, rhs, k)) return false;
+    const Eigen::ColPivHouseholderQR<decltype(basis)> qr(basis);
+    if (qr.rank() < 3) return false;
+    const Eigen::Vector3d k = qr.solve(drop);
     // Principal curvatures and the direction of the larger (Euler).
     const double mean = 0.5 * (k[0] + k[2]), half = std::sqrt(0.25 * (k[0] - k[2]) * (k[0] - k[2]) + k[1] * k[1]);
     const float angle = 0.5f * float(std::atan2(2.0 * k[1], k[0] - k[2]));
