@@ -152,15 +152,21 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
 
     bool deep = false;  // the last collision needed no boundary query: worth looking for a ball
     for (;;) {
+        if constexpr (kControlled) {
+            if (!path.coupled) {
+                // The control parted in the last step: the plain walk goes on.
+                stats.paths -= 1;  // which counts the path again
+                return path.value(L, false, rng) + (this->*walkSingle_)(ray, path.plain(), medium, rng, stats);
+            }
+        }
         if (balls && deep) {
             // Deep in one material: walk to the edge of a ball that holds
             // nothing else, without grid lookups or boundary queries.
-            std::optional<Ball> ball = homogeneousBall(ray.o);
-            if constexpr (kControlled)
-                if (ball) ball->radius_mm = std::min(ball->radius_mm, path.ballLimit_mm(ray.d));
-            if (ball && ball->radius_mm > 0.0f && path.canWalkBall(ball->label) &&
-                ball->radius_mm * path.ballSigmaT(ball->label) >= options_.ballMinMfp) {
-                if (!walkInBall(ray, ball->radius_mm, ball->label, path, rng, stats)) return end(true);
+            Ball ball = homogeneousBall(ray.o);
+            if constexpr (kControlled) ball.radius_mm = std::min(ball.radius_mm, path.ballLimit_mm(ray.d));
+            if (ball.radius_mm > 0.0f && path.canWalkBall(ball.label) &&
+                ball.radius_mm * path.ballSigmaT(ball.label) >= options_.ballMinMfp) {
+                if (!walkInBall(ray, ball.radius_mm, ball.label, path, rng, stats)) return end(true);
                 bounces = 0;
                 hitWeight = 1.0f;
                 continue;
@@ -194,10 +200,7 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             path.addLight(L, 1.0f);
             return end(false);
         }
-        if constexpr (kControlled) {
-            // Where the control parts, the path goes on as a walk just begun.
-            if (path.partsAfterFlight(!boundaryFirst, ff.label, L, rng)) deep = false;
-        }
+        if constexpr (kControlled) path.partsAfterFlight(!boundaryFirst, ff.label, L, rng);
 
         if (!boundaryFirst) {
             // Scattering: weight by the albedo, Russian roulette, phase sampling.
@@ -260,10 +263,10 @@ bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
     });
 }
 
-std::optional<PrintPt::Ball> PrintPt::homogeneousBall(const Point3f& p) const {
+PrintPt::Ball PrintPt::homogeneousBall(const Point3f& p) const {
     const LabelMedium& medium = *scene_.medium;
     const UniformRegions::Cell cell = medium.uniformRegions().at(medium.voxelAt(p));
-    if (cell.radius_mm <= 0.0f) return std::nullopt;
+    if (cell.radius_mm <= 0.0f) return {};
     return Ball{std::min(cell.radius_mm, scene_.clearance->at(p)), Label(cell.label)};
 }
 

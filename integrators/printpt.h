@@ -94,13 +94,13 @@ private:
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
     template <class Path>
     float rouletteThreshold(const Path& path, Label label) const;
-    // A ball around p, inside the object, that holds only one label; none
-    // where there is none.
+    // A ball around p, inside the object, that holds only one label;
+    // radius 0 where there is none. (8 bytes, returned in a register.)
     struct Ball {
-        float radius_mm;
-        Label label;
+        float radius_mm = 0.0f;
+        Label label = 0;
     };
-    std::optional<Ball> homogeneousBall(const Point3f& p) const;
+    Ball homogeneousBall(const Point3f& p) const;
     // Random walk from ray.o in the ball of radius_mm around it, which
     // holds only label: collisions without lookups or boundary queries,
     // until a free flight would leave the ball; ray becomes the point where

@@ -6,12 +6,12 @@
 // share plays one roulette on the larger weight and samples both
 // directions from the same numbers, and each walk adds its own light at
 // its own boundary. Where their events part (partsAfterFlight) the
-// control's walk finishes alone and the path goes on as a plain one. The
-// walk's value is then f - g (value); the caller adds the control's mean.
+// control's walk finishes alone; the walk completes that step and goes on
+// with the plain path (plain()) from there. The walk's value is f - g
+// (value); the caller adds the control's mean.
 #pragma once
 
 #include <algorithm>
-#include <limits>
 
 #include "integrators/channel_paths.h"
 #include "integrators/half_space_walk.h"
@@ -37,13 +37,12 @@ struct ControlledPath : SingleChannelPath {
     RouletteRule roulette;    // the control's own roulette, once it walks alone
     float ballMinMfp;         // and its ball walks
     int continuations;        // independent finishes of the control's walk where they part
-    bool coupled = true;
+    bool coupled = true;           // false from the step where they part
     bool controlCollided = false;  // the control's last flight ended in a collision
     float controlLight = 0.0f;     // g per unit environment radiance
     float partedValue = 0.0f;      // f - g up to where they parted
 
     FreeFlight track(LabelMedium::Sampler& medium, const Ray& ray, float tMax_mm, Rng& rng) {
-        if (!coupled) return SingleChannelPath::track(medium, ray, tMax_mm, rng);
         const float opticalDepth = sampleOpticalDepth(rng.uniform());
         controlCollided = halfSpaceFlight(*control, walker, opticalDepth, controlLight);
         return medium.freeFlightAtDepth(ray, tMax_mm, channel, opticalDepth);
@@ -67,35 +66,32 @@ struct ControlledPath : SingleChannelPath {
     // reaches its boundary, or the surface walk collides in another
     // material (whose roulette the control should not share). If they do,
     // the control finishes alone and L (the light so far) moves into the
-    // parted value: the path goes on as a plain one from L = 0.
+    // parted value, and the step goes on from L = 0.
     bool partsAfterFlight(bool collides, Label label, float& L, Rng& rng) {
-        if (!coupled || (collides == controlCollided && (!collides || sameMaterial(label)))) return false;
+        if (collides == controlCollided && (!collides || sameMaterial(label))) return false;
         partedValue = finish(L, rng);
         coupled = false;
         L = 0.0f;
         return true;
     }
-    // f - g for the walk that ended with light L; absorbed: by a roulette
-    // (which, coupled, ended the control's walk too).
+    // The path without its control, once they have parted.
+    SingleChannelPath plain() const { return *this; }
+    // f - g for the walk that ended with light L (after they parted: L of
+    // the parting step); absorbed: by a roulette (which, coupled, ended
+    // the control's walk too).
     float value(float L, bool absorbed, Rng& rng) const {
         if (!coupled) return partedValue + L;
         return absorbed ? L - controlLight * Le : finish(L, rng);
     }
 
-    // Ball walks, coupled, only in the control's material and below its
-    // boundary: one walk for both, rotated onto the control's direction.
-    bool canWalkBall(Label l) const { return !coupled || sameMaterial(l); }
-    float ballLimit_mm(const Vec3f& d) const {
-        if (!coupled) return std::numeric_limits<float>::infinity();
-        return dot(d, walker.d) > -0.99f ? control->depth(walker.x) : 0.0f;
-    }
-    void ballCollision(Label) {
-        if (coupled) walker.weight *= control->albedo;
-    }
+    // Ball walks only in the control's material and below its boundary:
+    // one walk for both, rotated onto the control's direction.
+    bool canWalkBall(Label l) const { return sameMaterial(l); }
+    float ballLimit_mm(const Vec3f& d) const { return dot(d, walker.d) > -0.99f ? control->depth(walker.x) : 0.0f; }
+    void ballCollision(Label) { walker.weight *= control->albedo; }
     // The ball walk that started along d0 left the ball at exit (relative
     // to its centre) along direction.
     void followBall(const Vec3f& d0, const Vec3f& exit, const Vec3f& direction) {
-        if (!coupled) return;
         walker.x = walker.x + rotateAtoB(d0, walker.d, exit);
         walker.d = normalize(rotateAtoB(d0, walker.d, direction));
     }
