@@ -98,6 +98,12 @@ int renderCommand(const std::vector<std::string>& argv) {
                      withThousands(sensor->pixelCount()).c_str(), desc.render.integrator.c_str(), desc.render.spp,
                      rendersChannelsInOnePass(desc.render) ? size_t(1) : desc.render.channels.size(),
                      channelSamplingName(desc.render.channelSampling), threads.count, setupSeconds);
+    if (auto* voxels = dynamic_cast<const SurfaceVoxelSensor*>(sensor.get()); voxels && voxels->patches() && !quiet) {
+        const SurfacePatches& p = *voxels->patches();
+        std::fprintf(stderr, "printlight: patch footprint: %s voxels with no patch (measured along their ray), %.4g mm^2 of "
+                             "surface given to none\n",
+                     withThousands(p.emptyPatches()).c_str(), p.unassignedArea_mm2());
+    }
 
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     RenderResult result = render(scene, *sensor, desc.render);

@@ -39,7 +39,7 @@ Ray OrthographicSensor::rayThrough(float x, float y) const {
 }
 
 SurfaceVoxelSensor::SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,
-                                       const std::vector<SurfaceVoxel>& surfaceVoxels)
+                                       const std::vector<SurfaceVoxel>& surfaceVoxels, Footprint footprint)
     : rayOffset_mm_(geometry.rayEpsilon_mm()) {
     pixels_.resize(surfaceVoxels.size());
     const Vec3f& s = frame.voxelSize_mm;
@@ -99,9 +99,16 @@ SurfaceVoxelSensor::SurfaceVoxelSensor(const Geometry& geometry, const GridFrame
                 " mm from the mesh: mesh and label grid do not match");
         }
     buildAtlas(frame);
+    if (footprint == Footprint::Patch) {
+        std::vector<Vec3i> voxels(pixels_.size());
+        for (size_t i = 0; i < voxels.size(); ++i) voxels[i] = pixels_[i].voxel;
+        patches_ = std::make_unique<SurfacePatches>(geometry.mesh(), frame, voxels);
+    }
 }
 
-Ray SurfaceVoxelSensor::generateRay(size_t pixel, float, float) const {
+Ray SurfaceVoxelSensor::generateRay(size_t pixel, float u0, float u1) const {
+    if (patches_)
+        if (auto x = patches_->sample(pixel, u0, u1)) return {x->p + x->normal * rayOffset_mm_, -x->normal};
     const Pixel& px = pixels_[pixel];
     return {px.surfacePoint_mm + px.normal * rayOffset_mm_, -px.normal};
 }

@@ -11,6 +11,7 @@
 
 #include "core/geometry.h"
 #include "core/grid_frame.h"
+#include "core/surface_patches.h"
 #include "core/vecmath.h"
 
 namespace pl {
@@ -104,9 +105,12 @@ private:
 // the closest point of the mesh to the centre. The ray starts at p offset
 // outwards by a small epsilon along the outward normal n of the triangle
 // there and travels along -n: the value is the radiance leaving the surface
-// at p along its normal. Full description: docs/surface-voxel-sensor.md.
+// at p along its normal. With the patch footprint, each sample takes a
+// point of the voxel's patch instead (core/surface_patches.h) and the value
+// is the patch's average. Full description: docs/surface-voxel-sensor.md.
 class SurfaceVoxelSensor : public Sensor {
 public:
+    enum class Footprint { Ray, Patch };
     struct Pixel {
         Vec3i voxel;
         Point3f surfacePoint_mm;
@@ -115,20 +119,23 @@ public:
 
     // surfaceVoxels: from LabelGrid::surfaceVoxels().
     SurfaceVoxelSensor(const Geometry& geometry, const GridFrame& frame,
-                       const std::vector<SurfaceVoxel>& surfaceVoxels);
+                       const std::vector<SurfaceVoxel>& surfaceVoxels, Footprint footprint = Footprint::Ray);
     size_t pixelCount() const override { return pixels_.size(); }
-    Ray generateRay(size_t pixel, float, float) const override;
+    Ray generateRay(size_t pixel, float u0, float u1) const override;
     int imageWidth() const override { return atlasWidth_; }
     int imageHeight() const override { return atlasHeight_; }
     int64_t pixelImageIndex(size_t pixel) const override { return atlasIndex_[pixel]; }
 
     const std::vector<Pixel>& pixels() const { return pixels_; }
+    // The patches (patch footprint; none with the ray footprint).
+    const SurfacePatches* patches() const { return patches_.get(); }
     float rayOffset_mm() const { return rayOffset_mm_; }
 
 private:
     void buildAtlas(const GridFrame& frame);
 
     std::vector<Pixel> pixels_;
+    std::unique_ptr<SurfacePatches> patches_;
     std::vector<int64_t> atlasIndex_;
     int atlasWidth_ = 0, atlasHeight_ = 0;
     float rayOffset_mm_;

@@ -78,7 +78,10 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     SensorDescription& s = d.sensor;
     s.type = json.string(sen, "type", "sensor");
     if (s.type == "surface_voxels") {
-        json.expectOnlyKeys(sen, "sensor", {"type"});
+        json.expectOnlyKeys(sen, "sensor", {"type", "footprint"});
+        const std::string footprint = json.string(sen, "footprint", "sensor", "ray");
+        if (footprint != "ray" && footprint != "patch") json.fail("sensor.footprint", "must be ray or patch");
+        s.footprint = footprint == "patch" ? SurfaceVoxelSensor::Footprint::Patch : SurfaceVoxelSensor::Footprint::Ray;
     } else if (s.type == "perspective" || s.type == "orthographic") {
         json.expectOnlyKeys(sen, "sensor", {"type", "position", "look_at", "up", "fov_deg", "width_mm", "resolution"});
         s.pose.position_mm = json.vec3(sen, "position", "sensor");
@@ -209,7 +212,8 @@ std::unique_ptr<SurfaceVoxelSensor> makeSurfaceVoxelSensor(const SceneDescriptio
                                                            const std::vector<SurfaceVoxel>& surfaceVoxels) {
     std::unique_ptr<SurfaceVoxelSensor> sensor;
     try {
-        sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels);
+        sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels,
+                                                      desc.sensor.footprint);
     } catch (const std::runtime_error& e) {  // mesh and grid do not match
         throw InputError(desc.labelsFile.string(), e.what());
     }

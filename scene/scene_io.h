@@ -15,6 +15,8 @@ namespace pl {
 
 struct SensorDescription {
     std::string type = "surface_voxels";  // surface_voxels | perspective | orthographic
+    // surface_voxels: what a voxel's value measures (core/sensors.h).
+    SurfaceVoxelSensor::Footprint footprint = SurfaceVoxelSensor::Footprint::Ray;
     CameraPose pose;
     float fovY_deg = 30.0f;
     float viewWidth_mm = 10.0f;

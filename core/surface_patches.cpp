@@ -1,0 +1,171 @@
+#include "core/surface_patches.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+namespace pl {
+
+namespace {
+
+using Polygon = std::vector<Point3f>;  // in cell coordinates
+
+// The part of the convex polygon with coordinate `axis` >= value (keepAbove)
+// or <= value (Sutherland-Hodgman against one plane).
+Polygon clip(const Polygon& poly, int axis, float value, bool keepAbove) {
+    Polygon out;
+    const size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Point3f& p = poly[i];
+        const Point3f& q = poly[(i + 1) % n];
+        const float dp = keepAbove ? p[axis] - value : value - p[axis];
+        const float dq = keepAbove ? q[axis] - value : value - q[axis];
+        if (dp >= 0.0f) out.push_back(p);
+        if ((dp >= 0.0f) != (dq >= 0.0f)) {
+            Point3f x = p + (q - p) * (dp / (dp - dq));
+            x[axis] = value;  // exactly on the plane
+            out.push_back(x);
+        }
+    }
+    return out;
+}
+
+// Calls visit(cell, polygon) for the non-empty parts of the polygon in each
+// unit cell it crosses, cutting along z, then y, then x.
+template <class Visit>
+void cutIntoCells(const Polygon& poly, int axis, Vec3i cell, Visit&& visit) {
+    if (axis < 0) {
+        visit(cell, poly);
+        return;
+    }
+    float lo = 1e30f, hi = -1e30f;
+    for (const Point3f& p : poly) {
+        lo = std::min(lo, p[axis]);
+        hi = std::max(hi, p[axis]);
+    }
+    const int first = int(std::floor(lo)), last = int(std::floor(hi));
+    for (int k = first; k <= last; ++k) {
+        Polygon slab = first == last ? poly : clip(clip(poly, axis, float(k), true), axis, float(k + 1), false);
+        if (slab.size() < 3) continue;
+        cell[axis] = k;
+        cutIntoCells(slab, axis - 1, cell, visit);
+    }
+}
+
+uint64_t keyOf(const Vec3i& v) {
+    return (uint64_t(uint32_t(v.x) & 0x1fffff) << 42) | (uint64_t(uint32_t(v.y) & 0x1fffff) << 21) |
+           uint64_t(uint32_t(v.z) & 0x1fffff);
+}
+
+struct OwnedPiece {
+    uint32_t pixel;
+    SurfacePatches::Piece piece;
+};
+
+}  // namespace
+
+SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels) {
+    std::unordered_map<uint64_t, uint32_t> pixelOf;
+    pixelOf.reserve(voxels.size());
+    for (size_t i = 0; i < voxels.size(); ++i) pixelOf.emplace(keyOf(voxels[i]), uint32_t(i));
+    const Vec3f scale = frame.worldToCellScale(), offset = frame.worldToCellOffset();
+    auto toCell = [&](const Point3f& p) {
+        return Point3f(p.x * scale.x + offset.x, p.y * scale.y + offset.y, p.z * scale.z + offset.z);
+    };
+    auto toWorld = [&](const Point3f& c) {
+        return Point3f((c.x - offset.x) / scale.x, (c.y - offset.y) / scale.y, (c.z - offset.z) / scale.z);
+    };
+    // The surface voxel whose centre is nearest to p (mm), within two voxels of p's cell.
+    auto ownerOf = [&](const Point3f& p) -> std::optional<uint32_t> {
+        const Point3f c = toCell(p);
+        const Vec3i at{int(std::floor(c.x)), int(std::floor(c.y)), int(std::floor(c.z))};
+        std::optional<uint32_t> best;
+        float bestDistance2 = 1e30f;
+        for (int reach = 1; reach <= 2 && !best; ++reach)
+            for (int dz = -reach; dz <= reach; ++dz)
+                for (int dy = -reach; dy <= reach; ++dy)
+                    for (int dx = -reach; dx <= reach; ++dx) {
+                        const Vec3i v{at.x + dx, at.y + dy, at.z + dz};
+                        auto it = pixelOf.find(keyOf(v));
+                        if (it == pixelOf.end()) continue;
+                        const Vec3f d = frame.voxelCenter_mm(v) - p;
+                        const float d2 = dot(d, d);
+                        // Ties go to the lower pixel index: the same owner whatever the order.
+                        if (d2 < bestDistance2 || (d2 == bestDistance2 && it->second < *best)) {
+                            bestDistance2 = d2;
+                            best = it->second;
+                        }
+                    }
+        return best;
+    };
+
+    const size_t triangles = mesh.triangleCount();
+    std::vector<std::vector<OwnedPiece>> perTriangle(triangles);
+    std::vector<double> unassigned(triangles, 0.0);
+    tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
+        const uint32_t* idx = &mesh.indices[3 * t];
+        const Point3f& a = mesh.positions_mm[idx[0]];
+        const Vec3f e = cross(mesh.positions_mm[idx[1]] - a, mesh.positions_mm[idx[2]] - a);
+        if (!(length(e) > 0.0f)) return;
+        const Vec3f normal = normalize(e);
+        Polygon poly{toCell(a), toCell(mesh.positions_mm[idx[1]]), toCell(mesh.positions_mm[idx[2]])};
+        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, [&](const Vec3i&, const Polygon& cellPoly) {
+            // Fan the cut polygon into triangles, in millimetres.
+            Polygon w(cellPoly.size());
+            for (size_t i = 0; i < w.size(); ++i) w[i] = toWorld(cellPoly[i]);
+            double area = 0.0;
+            Vec3f centroid(0, 0, 0);
+            std::vector<Piece> fan;
+            for (size_t i = 1; i + 1 < w.size(); ++i) {
+                const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
+                if (!(pieceArea > 0.0f)) continue;
+                fan.push_back({w[0], w[i], w[i + 1], normal, pieceArea});
+                area += pieceArea;
+                centroid = centroid + (w[0] + w[i] + w[i + 1]) * (pieceArea / 3.0f);
+            }
+            if (fan.empty()) return;
+            auto owner = ownerOf(centroid / float(area));
+            if (!owner) {
+                unassigned[t] += area;
+                return;
+            }
+            for (const Piece& p : fan) perTriangle[t].push_back({*owner, p});
+        });
+    });
+
+    // Group by pixel, in triangle order within a pixel (deterministic).
+    std::vector<uint64_t> count(voxels.size() + 1, 0);
+    for (const auto& list : perTriangle)
+        for (const OwnedPiece& o : list) count[o.pixel + 1] += 1;
+    for (size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
+    first_ = count;
+    pieces_.resize(first_.back());
+    std::vector<uint64_t> next(first_.begin(), first_.end() - 1);
+    for (const auto& list : perTriangle)
+        for (const OwnedPiece& o : list) pieces_[next[o.pixel]++] = o.piece;
+    area_mm2_.assign(voxels.size(), 0.0);
+    for (size_t i = 0; i < voxels.size(); ++i) {
+        for (const Piece* p = begin(i); p != end(i); ++p) area_mm2_[i] += p->area_mm2;
+        emptyPatches_ += first_[i] == first_[i + 1];
+    }
+    for (double a : unassigned) unassignedArea_mm2_ += a;
+}
+
+std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, float u0, float u1) const {
+    const Piece* b = begin(pixel);
+    const Piece* e = end(pixel);
+    if (b == e) return std::nullopt;
+    // Pick a piece by area with u0, and reuse what is left of u0 inside it.
+    float target = u0 * float(area_mm2_[pixel]);
+    const Piece* p = b;
+    for (; p + 1 != e && target >= p->area_mm2; ++p) target -= p->area_mm2;
+    const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);
+    // Uniform on the triangle (square-root parametrisation).
+    const float s = std::sqrt(v0);
+    const Point3f x = p->a * (1.0f - s) + p->b * (s * (1.0f - u1)) + p->c * (s * u1);
+    return PatchPoint{x, p->normal};
+}
+
+}  // namespace pl

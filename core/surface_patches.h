@@ -1,0 +1,59 @@
+// The surface-voxel sensor's patches (sensor key "footprint": "patch"): the
+// mesh surface cut along the voxel grid's cells, each cut piece given to the
+// surface voxel whose centre is nearest to the piece's centroid (within two
+// voxels; pieces with none nearer are left out and counted). A voxel's
+// patch is the union of its pieces; its measurement is the radiance
+// leaving the patch along each piece's outward (geometric) normal,
+// averaged over the patch's area: what the eye integrates over the voxel's
+// bit of surface, where the "ray" footprint takes one fixed ray
+// (docs/surface-voxel-sensor.md). Pieces are kept as triangles (the cut
+// polygons fanned), with their area, so a patch is sampled uniformly by
+// area.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/geometry.h"
+#include "core/grid_frame.h"
+
+namespace pl {
+
+class SurfacePatches {
+public:
+    // voxels: the surface voxels in sensor-pixel order.
+    SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels);
+
+    struct Piece {
+        Point3f a, b, c;
+        Vec3f normal;  // outward, of the mesh triangle it was cut from
+        float area_mm2;
+    };
+    // Pixel i's pieces, and its patch's area (0: no piece).
+    const Piece* begin(size_t pixel) const { return pieces_.data() + first_[pixel]; }
+    const Piece* end(size_t pixel) const { return pieces_.data() + first_[pixel + 1]; }
+    double area_mm2(size_t pixel) const { return area_mm2_[pixel]; }
+
+    // A point of pixel i's patch, uniform by area, from two uniform numbers,
+    // and the normal there; none if the patch is empty.
+    struct PatchPoint {
+        Point3f p;
+        Vec3f normal;
+    };
+    std::optional<PatchPoint> sample(size_t pixel, float u0, float u1) const;
+
+    // What the cut could not give to a surface voxel, and the voxels it
+    // gave nothing (they keep the ray footprint).
+    double unassignedArea_mm2() const { return unassignedArea_mm2_; }
+    size_t emptyPatches() const { return emptyPatches_; }
+
+private:
+    std::vector<Piece> pieces_;  // grouped by pixel
+    std::vector<uint64_t> first_;
+    std::vector<double> area_mm2_;
+    double unassignedArea_mm2_ = 0;
+    size_t emptyPatches_ = 0;
+};
+
+}  // namespace pl
