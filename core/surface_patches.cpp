@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <unordered_map>
 
 #include <tbb/parallel_for.h>
@@ -63,10 +64,38 @@ struct OwnedPiece {
     uint32_t pixel;
     SurfacePatches::Piece piece;
 };
+struct CellOwner {
+    Vec3i cell;
+    uint32_t pixel;
+};
 
 }  // namespace
 
-SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels) {
+Vec3i SurfacePatches::cellOf(const Point3f& x_mm) const {
+    const Vec3f scale = frame_.worldToCellScale(), offset = frame_.worldToCellOffset();
+    return {int(std::floor(x_mm.x * scale.x + offset.x)), int(std::floor(x_mm.y * scale.y + offset.y)),
+            int(std::floor(x_mm.z * scale.z + offset.z))};
+}
+
+uint64_t SurfacePatches::pieceKey(uint32_t prim, const Vec3i& cell) const {
+    // The cell's index in the frame widened by 2 cells each side (the mesh
+    // lies within a cell of the frame), below 2^40; the triangle above.
+    const Vec3i r = frame_.resolution + Vec3i{4, 4, 4};
+    const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
+    return (uint64_t(prim) << 40) | ((uint64_t(c.z) * uint64_t(r.y) + uint64_t(c.y)) * uint64_t(r.x) + uint64_t(c.x));
+}
+
+std::optional<uint32_t> SurfacePatches::pixelAt(uint32_t prim, const Point3f& x_mm) const {
+    auto it = pixelOfPiece_.find(pieceKey(prim, cellOf(x_mm)));
+    if (it == pixelOfPiece_.end()) return std::nullopt;
+    return it->second;
+}
+
+SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels)
+    : frame_(frame) {
+    const Vec3i& r = frame.resolution;
+    if (mesh.triangleCount() >= (size_t(1) << 24) || double(r.x + 4) * (r.y + 4) * (r.z + 4) >= 0x1p40)
+        throw std::runtime_error("the patch footprint takes at most 2^24 triangles and about 10^12 voxels");
     std::unordered_map<uint64_t, uint32_t> pixelOf;
     pixelOf.reserve(voxels.size());
     for (size_t i = 0; i < voxels.size(); ++i) pixelOf.emplace(keyOf(voxels[i]), uint32_t(i));
@@ -103,6 +132,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
 
     const size_t triangles = mesh.triangleCount();
     std::vector<std::vector<OwnedPiece>> perTriangle(triangles);
+    std::vector<std::vector<CellOwner>> cellOwners(triangles);
     std::vector<double> unassigned(triangles, 0.0);
     tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
         const uint32_t* idx = &mesh.indices[3 * t];
@@ -111,7 +141,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         if (!(length(e) > 0.0f)) return;
         const Vec3f normal = normalize(e);
         Polygon poly{toCell(a), toCell(mesh.positions_mm[idx[1]]), toCell(mesh.positions_mm[idx[2]])};
-        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, [&](const Vec3i&, const Polygon& cellPoly) {
+        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, [&](const Vec3i& cell, const Polygon& cellPoly) {
             // Fan the cut polygon into triangles, in millimetres.
             Polygon w(cellPoly.size());
             for (size_t i = 0; i < w.size(); ++i) w[i] = toWorld(cellPoly[i]);
@@ -121,7 +151,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
             for (size_t i = 1; i + 1 < w.size(); ++i) {
                 const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
                 if (!(pieceArea > 0.0f)) continue;
-                fan.push_back({w[0], w[i], w[i + 1], normal, pieceArea});
+                fan.push_back({w[0], w[i], w[i + 1], normal, pieceArea, uint32_t(t)});
                 area += pieceArea;
                 centroid = centroid + (w[0] + w[i] + w[i + 1]) * (pieceArea / 3.0f);
             }
@@ -132,6 +162,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
                 return;
             }
             for (const Piece& p : fan) perTriangle[t].push_back({*owner, p});
+            cellOwners[t].push_back({cell, *owner});
         });
     });
 
@@ -151,6 +182,8 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         emptyPatches_ += first_[i] == first_[i + 1];
     }
     for (double a : unassigned) unassignedArea_mm2_ += a;
+    for (size_t t = 0; t < triangles; ++t)
+        for (const CellOwner& o : cellOwners[t]) pixelOfPiece_.emplace(pieceKey(uint32_t(t), o.cell), o.pixel);
 }
 
 std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, float u0, float u1) const {
@@ -165,7 +198,7 @@ std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, f
     // Uniform on the triangle (square-root parametrisation).
     const float s = std::sqrt(v0);
     const Point3f x = p->a * (1.0f - s) + p->b * (s * (1.0f - u1)) + p->c * (s * u1);
-    return PatchPoint{x, p->normal};
+    return PatchPoint{x, p->normal, p->prim};
 }
 
 }  // namespace pl

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "core/geometry.h"
@@ -29,6 +30,7 @@ public:
         Point3f a, b, c;
         Vec3f normal;  // outward, of the mesh triangle it was cut from
         float area_mm2;
+        uint32_t prim;  // that triangle
     };
     // Pixel i's pieces, and its patch's area (0: no piece).
     const Piece* begin(size_t pixel) const { return pieces_.data() + first_[pixel]; }
@@ -40,8 +42,14 @@ public:
     struct PatchPoint {
         Point3f p;
         Vec3f normal;
+        uint32_t prim;
     };
     std::optional<PatchPoint> sample(size_t pixel, float u0, float u1) const;
+
+    // The pixel whose patch holds point x of triangle prim (light tracing
+    // scores there); none where no piece of that triangle in x's cell has
+    // an owner.
+    std::optional<uint32_t> pixelAt(uint32_t prim, const Point3f& x_mm) const;
 
     // What the cut could not give to a surface voxel, and the voxels it
     // gave nothing (they keep the ray footprint).
@@ -49,6 +57,13 @@ public:
     size_t emptyPatches() const { return emptyPatches_; }
 
 private:
+    // The cell a point of the mesh is in (cell coordinates floored), and
+    // the key of (triangle, cell).
+    Vec3i cellOf(const Point3f& x_mm) const;
+    uint64_t pieceKey(uint32_t prim, const Vec3i& cell) const;
+
+    GridFrame frame_;
+    std::unordered_map<uint64_t, uint32_t> pixelOfPiece_;
     std::vector<Piece> pieces_;  // grouped by pixel
     std::vector<uint64_t> first_;
     std::vector<double> area_mm2_;
