@@ -1,6 +1,6 @@
 #include "core/geometry.h"
 
-#include <embree3/rtcore.h>
+#include "core/embree_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,14 +8,7 @@
 
 namespace pl {
 
-struct Geometry::Impl {
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    ~Impl() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
-};
+struct Geometry::Impl : EmbreeScene {};
 
 namespace {
 
@@ -135,9 +128,6 @@ Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(s
     rayEpsilon_mm_ = std::max(1e-4f, maxAbs * 64.0f * 1.2e-7f);
     surfaceLift_mm_ = std::max(1e-7f, maxAbs * 4.0f * 1.2e-7f);
 
-    impl_->device = rtcNewDevice(nullptr);
-    if (!impl_->device) throw std::runtime_error("cannot create an Embree device");
-    impl_->scene = rtcNewScene(impl_->device);
     rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);

@@ -3,23 +3,17 @@
 #include <stdexcept>
 #include <vector>
 
-#include <embree3/rtcore.h>
+#include "core/embree_scene.h"
 
 namespace pl {
 
-struct PrismIndex::Impl {
+struct PrismIndex::Impl : EmbreeScene {
     struct Prism {
         Point3f a, b, c;
         Vec3f normal;
     };
     std::vector<Prism> prisms;
     float depth_mm = 0;
-    RTCDevice device = nullptr;
-    RTCScene scene = nullptr;
-    ~Impl() {
-        if (scene) rtcReleaseScene(scene);
-        if (device) rtcReleaseDevice(device);
-    }
 };
 
 namespace {
@@ -75,9 +69,6 @@ PrismIndex::PrismIndex(const TriangleMesh& mesh, float depth_mm) : impl_(std::ma
         // A degenerate triangle has no line: an empty prism.
         impl_->prisms.push_back({a, b, c, length(e) > 0.0f ? normalize(e) : Vec3f(0, 0, 0)});
     }
-    impl_->device = rtcNewDevice(nullptr);
-    if (!impl_->device) throw std::runtime_error("cannot create an Embree device");
-    impl_->scene = rtcNewScene(impl_->device);
     RTCGeometry geom = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_USER);
     rtcSetGeometryUserPrimitiveCount(geom, unsigned(impl_->prisms.size()));
     rtcSetGeometryUserData(geom, impl_.get());
