@@ -2,6 +2,8 @@
 //   printlight bench SCENE.json --make-reference REF.exr [--spp N] [--integrator I]
 //   printlight bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs a,b,...] [--out PREFIX]
 //   printlight bench SCENE.json --self-variance [--budgets ...|--spp N] [--configs ...] [--out PREFIX]
+//   (both: [--target-relative-error 0.02], the whole-object quality the
+//   "time to" column extrapolates to: medianRelativeError, timeToTarget)
 // Each configuration renders at each time budget (seconds; the spp is chosen
 // from a 1-spp calibration run) and is compared with the reference: RMSE and
 // relative MSE over all pixels and channels, MSE x time (lower is better),
@@ -126,6 +128,7 @@ struct Row {
     RGB rmseChannel;
     double rmse, relMse, mseTime;
     RGB passSeconds;  // per channel (separate passes; zero for one pass)
+    double medianRelativeError = 0, secondsToTarget = 0;  // whole-object quality (timeToTarget)
 };
 
 // Where a channel's own pass shows where the time and the error go: each
@@ -195,6 +198,42 @@ Errors selfVariance(const Film& film, RelativeTo&& relativeTo) {
     return e;
 }
 
+// Whole-object quality: per channel the median over pixels of a pixel's
+// relative error, the largest over the channels. Self-variance: the
+// pixel's standard error over its mean. Against a reference: |mean - ref|
+// over ref, divided by 0.6745 (the median of |N(0,1)|), so that both
+// estimate the same for an unbiased estimator; a dark pixel (mean or
+// reference <= 0) counts as infinitely far.
+double medianRelativeError(const Film& film, const Sensor& sensor, const RadianceImage* ref) {
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> rel;
+        rel.reserve(film.pixelCount());
+        for (size_t p = 0; p < film.pixelCount(); ++p) {
+            const double m = film.mean(p, c);
+            if (!ref) {
+                rel.push_back(m > 0 ? film.standardError(p, c) / m : INFINITY);
+                continue;
+            }
+            const int64_t i = sensor.pixelImageIndex(p);
+            if (i < 0) continue;
+            const double r = ref->mean[size_t(i)][c];
+            rel.push_back(r > 0 ? std::abs(m - r) / r / 0.6745 : INFINITY);
+        }
+        if (rel.empty()) continue;
+        std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+        worst = std::max(worst, rel[rel.size() / 2]);
+    }
+    return worst;
+}
+// The time to bring that median down to the target, from a render that
+// took `seconds`: error falls as 1 / sqrt(time) for these estimators (an
+// extrapolation where the render did not reach it; the render's own time
+// where it did).
+double timeToTarget(double seconds, double medianRelativeError, double target) {
+    return medianRelativeError <= target ? seconds : seconds * std::pow(medianRelativeError / target, 2);
+}
+
 Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref) {
     double se[3] = {0, 0, 0}, rel = 0;
     size_t n = 0;
@@ -262,7 +301,9 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
 }  // namespace
 
 int benchCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out"}, {"--self-variance"});
+    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out",
+                          "--target-relative-error"},
+                   {"--self-variance"});
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
     SceneDescription desc = parseScene(args.positional()[0]);
     RenderSettings base = desc.render;
@@ -337,6 +378,17 @@ int benchCommand(const std::vector<std::string>& argv) {
         if (!(budgets.back() > 0)) throw UsageError("--budgets must be positive");
     }
 
+    // The whole-object target: the median per-pixel relative error (timeToTarget).
+    double target = 0.02;
+    if (auto t = args.value("--target-relative-error")) {
+        try {
+            target = std::stod(*t);
+        } catch (const std::exception&) {
+            target = 0;
+        }
+        if (!(target > 0 && target < 1)) throw UsageError("--target-relative-error must be in (0, 1), e.g. 0.02");
+    }
+
     // Self-variance: at least kMinSelfSpp samples, or exactly --spp (>= 2:
     // the sample variance is unbiased from two samples on).
     const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
@@ -364,9 +416,11 @@ int benchCommand(const std::vector<std::string>& argv) {
             // (With several renders the relative MSE is redone below, over one denominator.)
             auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
             Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, *sensor, ref);
+            const double medianRel = medianRelativeError(r.film, *sensor, self ? nullptr : &ref);
             if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
-                            e.rmseAll * e.rmseAll * r.seconds, r.passSeconds});
+                            e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
+                            timeToTarget(r.seconds, medianRel, target)});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
@@ -408,16 +462,21 @@ int benchCommand(const std::vector<std::string>& argv) {
     else
         md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
            << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
+    char targetText[32];
+    std::snprintf(targetText, sizeof targetText, "%g %%", 100.0 * target);
     md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
-       << baseline << " |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline\n";
+       << baseline << " | median rel. error | time to " << targetText << " (s) |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline,"
+           "median_rel_error,seconds_to_target\n";
     for (const Row& r : rows) {
         double speedup = baselineRows.count(r.budget) ? baselineRows[r.budget]->mseTime / r.mseTime : NAN;
         char line[512];
-        std::snprintf(line, sizeof line, "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f",
+        std::snprintf(line, sizeof line,
+                      "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f | %.4g | %.4g",
                       r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
-                      r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup);
+                      r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup, r.medianRelativeError,
+                      r.secondsToTarget);
         md << "| " << line << " |\n";
         std::string c = line;
         for (char& ch : c)

@@ -326,7 +326,7 @@ TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     std::string csv = readText(s.dir / "b.csv");
     EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 5) << csv;  // header + 2 configs x 2 budgets
     EXPECT_NE(csv.find("volpath,0.05,"), std::string::npos) << csv;
-    EXPECT_NE(csv.find(",1.00\n"), std::string::npos) << csv;  // volpath against itself
+    EXPECT_NE(csv.find(",1.00,"), std::string::npos) << csv;  // volpath against itself
     EXPECT_TRUE(fs::exists(s.dir / "b.md"));
     EXPECT_NE(readText(s.dir / "b.svg").find("<polyline"), std::string::npos);
     // A reference of another scene is refused (a top-down view: the
@@ -336,6 +336,31 @@ TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     r = printlight("bench " + s.write().string() + " --reference " + ref.string(), s.dir);
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("does not match"), std::string::npos) << r.err;
+}
+
+// The whole-object column: the time to bring the median per-pixel relative
+// error to the target, extrapolated as 1 / sqrt(time) from the render's.
+TEST(Cli, BenchGivesTheTimeToATargetRelativeError) {
+    TestScene s("bench_target");
+    fs::path scene = s.write();
+    CliRun r = printlight("bench " + scene.string() + " --self-variance --spp 4 --configs printpt --target-relative-error 0.001 --out " +
+                              (s.dir / "t").string(),
+                          s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string csv = readText(s.dir / "t.csv");
+    EXPECT_NE(csv.find(",median_rel_error,seconds_to_target\n"), std::string::npos) << csv;
+    std::vector<std::string> cells;
+    std::istringstream row(csv.substr(csv.find('\n') + 1));
+    for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 13u) << csv;
+    const double seconds = std::stod(cells[3]), median = std::stod(cells[11]), toTarget = std::stod(cells[12]);
+    ASSERT_GT(median, 0.001) << "the test needs a render short of the target";
+    ASSERT_LT(median, 1.0);
+    EXPECT_NEAR(toTarget, seconds * (median / 0.001) * (median / 0.001), 0.01 * toTarget) << csv;
+    EXPECT_NE(readText(s.dir / "t.md").find("time to 0.1 % (s)"), std::string::npos);
+    r = printlight("bench " + scene.string() + " --self-variance --target-relative-error 2", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("--target-relative-error must be in (0, 1)"), std::string::npos) << r.err;
 }
 
 TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
