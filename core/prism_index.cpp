@@ -59,7 +59,7 @@ void prismBounds(const RTCBoundsFunctionArguments* args) {
 
 }  // namespace
 
-PrismIndex::PrismIndex(const TriangleMesh& mesh, float depth_mm) : impl_(std::make_unique<Impl>()), depth_mm_(depth_mm) {
+PrismIndex::PrismIndex(const TriangleMesh& mesh, float depth_mm) : impl_(std::make_unique<Impl>()) {
     impl_->depth_mm = depth_mm;
     impl_->prisms.reserve(mesh.triangleCount());
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -81,6 +81,8 @@ PrismIndex::PrismIndex(const TriangleMesh& mesh, float depth_mm) : impl_(std::ma
 }
 
 PrismIndex::~PrismIndex() = default;
+
+float PrismIndex::depth_mm() const { return impl_->depth_mm; }
 
 void PrismIndex::linesThrough(const Point3f& y, void (*call)(void*, const Line&), void* visit) const {
     RTCPointQuery query;

@@ -35,13 +35,12 @@ public:
     void forEachLine(const Point3f& y, Visit&& visit) const {
         linesThrough(y, [](void* f, const Line& line) { (*static_cast<Visit*>(f))(line); }, &visit);
     }
-    float depth_mm() const { return depth_mm_; }
+    float depth_mm() const;
     struct Impl;  // the prisms and the Embree scene (prism_index.cpp)
 
 private:
     void linesThrough(const Point3f& y, void (*call)(void*, const Line&), void* visit) const;
     std::unique_ptr<Impl> impl_;
-    float depth_mm_;
 };
 
 }  // namespace pl

@@ -108,8 +108,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     };
     // The surface voxel whose centre is nearest to p (mm), within two voxels of p's cell.
     auto ownerOf = [&](const Point3f& p) -> std::optional<uint32_t> {
-        const Point3f c = toCell(p);
-        const Vec3i at{int(std::floor(c.x)), int(std::floor(c.y)), int(std::floor(c.z))};
+        const Vec3i at = cellOf(p);
         std::optional<uint32_t> best;
         float bestDistance2 = 1e30f;
         for (int reach = 1; reach <= 2 && !best; ++reach)

@@ -60,9 +60,8 @@ FreeFlight LabelMedium::Sampler::sampleFlight(const Ray& ray, float tMax_mm, Eve
     auto labelAt = [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
     const CellRay cellRay = medium_.toCellRay(ray);
     if (majorants_ == Majorants::Global) {
-        const MajorantGrid::Bounds wholeGrid = medium_.majorants_.wholeGrid();
         auto segments = [&](auto&& visit) {
-            return wholeGridSegment(cellRay, tMax_mm, medium_.frame(), wholeGrid, visit);
+            return wholeGridSegment(cellRay, tMax_mm, medium_.frame(), medium_.majorants_.wholeGrid(), visit);
         };
         return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
     }

@@ -19,9 +19,14 @@ MajorantGrid::MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3
     grid.visitBlockLabels(kBrickLog2, {0, 0, 0}, [&](const Vec3i& brick, Label l) {
         b[brickIndex(brick)].include(l, luts, grid.voidLabel());
     });
-    for (const Bounds& x : b)
-        for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], x.maxSigmaT[c]);
     bricks_ = std::move(b);
+    boundWholeGrid();
+}
+
+void MajorantGrid::boundWholeGrid() {
+    wholeGrid_.maxSigmaT = {0, 0, 0};
+    for (const Bounds& x : bricks_)
+        for (int c = 0; c < 3; ++c) wholeGrid_.maxSigmaT[c] = std::max(wholeGrid_.maxSigmaT[c], x.maxSigmaT[c]);
 }
 
 void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts,
@@ -43,9 +48,7 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
                     x.include(grid.label({xx, y, z}), luts, grid.voidLabel());
         bricks_[i] = x;
     }
-    globalMax_ = {0, 0, 0};
-    for (const Bounds& x : bricks_)
-        for (int c = 0; c < 3; ++c) globalMax_[c] = std::max(globalMax_[c], x.maxSigmaT[c]);
+    boundWholeGrid();
 }
 
 }  // namespace pl

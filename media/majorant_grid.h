@@ -72,10 +72,10 @@ public:
         return inside ? solidLabel(b) : kOnlyVoid;
     }
     // The largest sigma_t anywhere, per channel.
-    float globalMaxSigmaT(int channel) const { return globalMax_[channel]; }
+    float globalMaxSigmaT(int channel) const { return wholeGrid_.maxSigmaT[channel]; }
     // A brick's bounds; the whole grid's (its largest sigma_t, several labels).
     const Bounds& bounds(const Vec3i& brick) const { return at(brick); }
-    Bounds wholeGrid() const;
+    const Bounds& wholeGrid() const { return wholeGrid_; }
 
     size_t brickIndex(const Vec3i& b) const {
         return (size_t(b.z - brickMin_.z) * (brickMax_.y - brickMin_.y) + (b.y - brickMin_.y)) *
@@ -87,13 +87,11 @@ public:
 
 private:
     const Bounds& at(const Vec3i& b) const { return bricks_[brickIndex(b)]; }
+    // The whole grid's bounds from the bricks' (its minimum left at 0).
+    void boundWholeGrid();
     Vec3i brickMin_, brickMax_;
     std::vector<Bounds> bricks_;
-    RGB globalMax_{0, 0, 0};
+    Bounds wholeGrid_{{0, 0, 0}, {0, 0, 0}, -1, kSeveralLabels};
 };
-
-inline MajorantGrid::Bounds MajorantGrid::wholeGrid() const {
-    return {globalMax_, {0, 0, 0}, -1, kSeveralLabels};
-}
 
 }  // namespace pl

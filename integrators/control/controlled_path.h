@@ -62,17 +62,16 @@ struct ControlledPath : SingleChannelPath {
         if (coupled) walker.weight /= survival;
     }
 
-    // Whether the walks part after a flight: one collides where the other
+    // After a flight the walks part where one collides and the other
     // reaches its boundary, or the surface walk collides in another
-    // material (whose roulette the control should not share). If they do,
-    // the control finishes alone and L (the light so far) moves into the
-    // parted value, and the step goes on from L = 0.
-    bool partsAfterFlight(bool collides, Label label, float& L, Rng& rng) {
-        if (collides == controlCollided && (!collides || sameMaterial(label))) return false;
+    // material (whose roulette the control should not share). Then the
+    // control finishes alone, L (the light so far) moves into the parted
+    // value, and the step goes on from L = 0 (coupled is false).
+    void partsAfterFlight(bool collides, Label label, float& L, Rng& rng) {
+        if (collides == controlCollided && (!collides || sameMaterial(label))) return;
         partedValue = finish(L, rng);
         coupled = false;
         L = 0.0f;
-        return true;
     }
     // The path without its control, once they have parted.
     SingleChannelPath plain() const { return *this; }
