@@ -66,6 +66,15 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
+    // Light tracing (the sensor must have the patch footprint), with more
+    // particles per block.
+    RenderSettings light = v;
+    light.integrator = "lighttrace";
+    c["lighttrace"] = light;
+    for (float particles : {4.0f, 16.0f}) {
+        light.lighttrace.particlesPerPixel = particles;
+        c["lighttrace-p" + std::to_string(int(particles))] = light;
+    }
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
     for (const char* integrator : {"volpath", "printpt"}) {
         RenderSettings q = c[integrator];

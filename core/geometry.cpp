@@ -166,19 +166,23 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax, float 
     rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
-    uint32_t prim = rh.hit.primID;
-    SurfaceHit hit;
+    SurfaceHit hit = pointOn(rh.hit.primID, rh.hit.u, rh.hit.v);
     hit.t = rh.ray.tfar;
     hit.p = ray.at(hit.t);
+    return hit;
+}
+
+SurfaceHit Geometry::pointOn(uint32_t prim, float u, float v) const {
+    const uint32_t* idx = &mesh_.indices[3 * size_t(prim)];
+    SurfaceHit hit;
+    hit.t = 0.0f;
+    hit.p = mesh_.positions_mm[idx[0]] * (1 - u - v) + mesh_.positions_mm[idx[1]] * u + mesh_.positions_mm[idx[2]] * v;
     hit.ng = triangleNormal(mesh_, prim);
     hit.ns = hit.ng;
     hit.prim = prim;
     if (!mesh_.normals.empty()) {
-        // Interpolate file normals with Embree's barycentrics (v0 + u e1 + v e2).
-        float u = rh.hit.u, v = rh.hit.v;
-        const uint32_t* idx = &mesh_.indices[3 * prim];
-        Vec3f n = mesh_.normals[idx[0]] * (1 - u - v) + mesh_.normals[idx[1]] * u +
-                  mesh_.normals[idx[2]] * v;
+        // Interpolated file normals.
+        Vec3f n = mesh_.normals[idx[0]] * (1 - u - v) + mesh_.normals[idx[1]] * u + mesh_.normals[idx[2]] * v;
         float len = length(n);
         // Keep the shading normal on the geometric normal's side.
         if (len > 0 && dot(n, hit.ng) > 0) hit.ns = n / len;

@@ -61,6 +61,9 @@ public:
             hit = intersect(ray, tMax, hit->t + rayEpsilon_mm_);
         return hit;
     }
+    // The point of triangle prim at barycentrics (u, v) (v0 + u e1 + v e2),
+    // with its normals; t is 0.
+    SurfaceHit pointOn(uint32_t prim, float u, float v) const;
     // Closest point on the mesh within radius_mm of p.
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
     // Whether any triangle intersects the axis-aligned box [lo, hi].

@@ -61,6 +61,24 @@ inline DirectionSample sampleVMF(const Vec3f& mu, float kappa, float u0, float u
     return {d, vmfPdf(mu, kappa, d)};
 }
 
+// A point uniform by area on a triangle (v0 + b1 e1 + b2 e2), by the
+// square-root parametrisation: the barycentrics (b1, b2) and the pdf per
+// unit of the triangle's area (1 / area).
+struct TriangleSample {
+    float b1, b2;
+};
+inline TriangleSample sampleUniformTriangle(float u0, float u1) {
+    const float s = std::sqrt(u0);
+    return {s * (1.0f - u1), s * u1};
+}
+
+// A direction about +z with pdf cos(theta) / pi (Malley's method).
+inline DirectionSample sampleCosineHemisphere(float u0, float u1) {
+    const float r = std::sqrt(u0), phi = 2.0f * kPi * u1;
+    const float z = std::sqrt(std::max(0.0f, 1.0f - u0));
+    return {{r * std::cos(phi), r * std::sin(phi), z}, z / kPi};
+}
+
 // Exponential free-flight distance with rate sigma (1/mm): value and pdf.
 struct DistanceSample {
     float t;

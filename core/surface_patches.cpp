@@ -1,5 +1,7 @@
 #include "core/surface_patches.h"
 
+#include "core/sampling.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -194,9 +196,8 @@ std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, f
     const Piece* p = b;
     for (; p + 1 != e && target >= p->area_mm2; ++p) target -= p->area_mm2;
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);
-    // Uniform on the triangle (square-root parametrisation).
-    const float s = std::sqrt(v0);
-    const Point3f x = p->a * (1.0f - s) + p->b * (s * (1.0f - u1)) + p->c * (s * u1);
+    const TriangleSample bary = sampleUniformTriangle(v0, u1);
+    const Point3f x = p->a * (1.0f - bary.b1 - bary.b2) + p->b * bary.b1 + p->c * bary.b2;
     return PatchPoint{x, p->normal, p->prim};
 }
 

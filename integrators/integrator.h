@@ -109,6 +109,15 @@ public:
     // Called once before rendering the sensor's pixels in these channels
     // (single-channel passes): a chance to look at all entries first.
     virtual void prepare(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
+
+    // Estimators that also trace paths from the light (lighttrace) score,
+    // for sample `sample` of a channel's pass, one block of light paths into
+    // every pixel: perPixel[p] (zeroed by the caller) is added to pixel p's
+    // camera sample. Blocks are independent, so a pixel's samples stay
+    // independent and its spread is batch means over blocks.
+    virtual bool scoresLightPaths() const { return false; }
+    virtual void scoreLightBlock(int /*channel*/, uint32_t /*sample*/, std::vector<double>& /*perPixel*/,
+                                 PathStats& /*stats*/) const {}
 };
 
 }  // namespace pl

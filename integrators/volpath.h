@@ -1,19 +1,14 @@
-// volpath: the plain reference volumetric path tracer. Delta tracking for
-// distances, HG phase sampling, Fresnel choosing reflection or refraction at
-// random, throughput Russian roulette, no depth cap unless asked. It is the
+// volpath: the plain reference volumetric path tracer (the walk of
+// integrators/volume_walk.h), no depth cap unless asked. It is the
 // oracle every specialised estimator is checked against: keep it simple.
 #pragma once
 
 #include <cstdint>
 
 #include "integrators/integrator.h"
+#include "integrators/volume_walk.h"
 
 namespace pl {
-
-struct VolPathOptions {
-    bool reentry = false;  // trace light that leaves the object back against it
-    int64_t maxDepth = -1; // scattering events per path; < 0: unlimited (unbiased)
-};
 
 class VolPath : public Integrator {
 public:

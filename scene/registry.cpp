@@ -9,7 +9,8 @@ const std::vector<IntegratorKind>& integratorKinds() {
         {"volpath", [](const RenderSettings&) { return SceneNeeds{}; },
          [](const RenderSettings&) { return std::string(); },
          [](const RenderSettings&) { return true; },
-         [](const Scene& scene, const RenderSettings& s, std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
+         [](const Scene& scene, const Sensor&, const RenderSettings& s,
+            std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
              return std::make_unique<VolPath>(scene, s.volpath);
          }},
         {"printpt",
@@ -22,9 +23,21 @@ const std::vector<IntegratorKind>& integratorKinds() {
          },
          // Next-event estimation is single-channel: it keeps separate passes.
          [](const RenderSettings& s) { return !s.printpt.nee; },
-         [](const Scene& scene, const RenderSettings& s,
+         [](const Scene& scene, const Sensor&, const RenderSettings& s,
             std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
              return std::make_unique<PrintPt>(scene, s.printpt, s.seed, std::move(controlMeans));
+         }},
+        {"lighttrace", [](const RenderSettings&) { return SceneNeeds{}; },
+         [](const RenderSettings& s) {
+             return s.volpath.reentry
+                        ? std::string("lighttrace does not trace re-entry; the scene asks for \"reentry\": true")
+                        : std::string();
+         },
+         // Particles walk one channel: separate passes.
+         [](const RenderSettings&) { return false; },
+         [](const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+            std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
+             return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.majorants, s.seed);
          }},
     };
     return kinds;

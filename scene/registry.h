@@ -21,7 +21,8 @@ struct IntegratorKind {
     // Whether it can take all three channels from one path (else a pass
     // per channel).
     bool (*threeChannelsInOnePath)(const RenderSettings&);
-    std::unique_ptr<Integrator> (*make)(const Scene&, const RenderSettings&, std::shared_ptr<HalfSpaceMeans>);
+    std::unique_ptr<Integrator> (*make)(const Scene&, const Sensor&, const RenderSettings&,
+                                        std::shared_ptr<HalfSpaceMeans>);
 };
 
 const std::vector<IntegratorKind>& integratorKinds();

@@ -18,11 +18,42 @@ std::vector<int> passesOf(const RenderSettings& settings) {
     return rendersChannelsInOnePass(settings) ? std::vector<int>{-1} : settings.channels;
 }
 
+// One channel's samples with light paths (Integrator::scoreLightBlock):
+// sample by sample, the block of light paths, then every pixel's camera
+// sample plus what the block scored there.
+void renderWithLightPaths(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
+                          const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
+                          uint32_t count, int channel, ProgressBar& progress, RenderResult& result) {
+    const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
+    std::vector<double> light(sensor.pixelCount());
+    std::mutex statsMutex;
+    for (uint32_t s = firstSample; s < firstSample + count; ++s) {
+        std::fill(light.begin(), light.end(), 0.0);
+        integrator.scoreLightBlock(channel, s, light, result.stats);
+        parallelForTiles(n, 64, [&](size_t begin, size_t end) {
+            LabelMedium::Sampler medium(*scene.medium, settings.majorants);
+            PathStats stats;
+            for (size_t i = begin; i < end; ++i) {
+                if (interruptRequested()) return;
+                const size_t p = pixels.empty() ? i : pixels[i];
+                Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
+                float u0 = rng.uniform(), u1 = rng.uniform();
+                ChannelSample sample = integrator.Li(sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
+                sample.value += float(light[p]);
+                result.film.add(p, channel, sample);
+            }
+            progress.advance(end - begin);
+            std::lock_guard<std::mutex> lock(statsMutex);
+            result.stats += stats;
+        });
+    }
+}
+
 }  // namespace
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
-    std::unique_ptr<Integrator> integrator = integratorKindOf(settings).make(scene, settings, std::move(controlMeans));
+    std::unique_ptr<Integrator> integrator = integratorKindOf(settings).make(scene, sensor, settings, std::move(controlMeans));
     if (!rendersChannelsInOnePass(settings)) integrator->prepare(sensor, passesOf(settings));
     return integrator;
 }
@@ -33,11 +64,14 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     auto start = std::chrono::steady_clock::now();
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
     const std::vector<int> passes = passesOf(settings);
-    ProgressBar progress(uint64_t(n) * passes.size(), "rendering", settings.showProgress);
+    ProgressBar progress(uint64_t(n) * passes.size() * count, "rendering", settings.showProgress);
     std::mutex statsMutex;
     for (int channel : passes) {
         const auto passStart = std::chrono::steady_clock::now();
-        parallelForTiles(n, 64, [&](size_t begin, size_t end) {
+        if (integrator.scoresLightPaths())
+            renderWithLightPaths(integrator, scene, sensor, settings, pixels, firstSample, count, channel, progress,
+                                 result);
+        else parallelForTiles(n, 64, [&](size_t begin, size_t end) {
             LabelMedium::Sampler medium(*scene.medium, settings.majorants);
             PathStats stats;
             for (size_t i = begin; i < end; ++i) {
@@ -71,7 +105,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                     }
                 }
             }
-            progress.advance(end - begin);
+            progress.advance((end - begin) * count);
             std::lock_guard<std::mutex> lock(statsMutex);
             result.stats += stats;
         });

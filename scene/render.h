@@ -11,13 +11,14 @@
 #include "core/film.h"
 #include "core/sensors.h"
 #include "scene/scene.h"
+#include "integrators/lighttrace.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
 
 namespace pl {
 
 struct RenderSettings {
-    std::string integrator = "volpath";  // volpath | printpt
+    std::string integrator = "volpath";  // a name of integratorKinds() (scene/registry.h)
     uint32_t spp = 16;
     uint64_t seed = 1;
     std::vector<int> channels{0, 1, 2};  // rendered channels
@@ -29,6 +30,7 @@ struct RenderSettings {
     Majorants majorants = Majorants::PerBrick;
     VolPathOptions volpath;
     PrintPtOptions printpt;
+    LightTraceOptions lighttrace;
     bool showProgress = false;
 };
 

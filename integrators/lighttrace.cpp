@@ -1,0 +1,173 @@
+#include "integrators/lighttrace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "runtime/interrupt.h"
+#include "runtime/scheduler.h"
+
+namespace pl {
+
+namespace {
+
+// Blocks are cut into this many parts, each traced by one thread into its
+// own tally and added in part order: the same bits whatever the threads.
+constexpr size_t kBlockParts = 16;
+// Below this optical depth the transmittance to the surface is estimated
+// exactly; beyond it Russian roulette ends most connections early.
+constexpr float kConnectionRouletteDepth = 2.0f;
+// The relative light left at the inward normal lines' depth.
+constexpr float kLineDepthOpticalDepth = 13.8f;  // e^-13.8 ~ 1e-6
+
+const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
+    const auto* s = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
+    if (!s || !s->patches())
+        throw std::invalid_argument(
+            "lighttrace scores into surface-voxel patches: the sensor must be \"surface_voxels\" with \"footprint\": "
+            "\"patch\"");
+    if (s->patches()->emptyPatches() > 0)
+        throw std::invalid_argument("lighttrace: " + std::to_string(s->patches()->emptyPatches()) +
+                                    " surface voxels have an empty patch (the mesh does not cross them)");
+    return *s;
+}
+
+float lineDepthFor_mm(const Scene& scene) {
+    const Bounds3f b = scene.geometry->bounds();
+    const float diagonal_mm = length(b.hi - b.lo);
+    float leastSigmaT = 1e30f;
+    const MaterialTable& table = scene.medium->materials();
+    for (int l = 0; l < 256; ++l) {
+        if (!table.byLabel[l].defined || l == scene.medium->grid().voidLabel()) continue;
+        for (int c = 0; c < 3; ++c) leastSigmaT = std::min(leastSigmaT, table.byLabel[l].sigmaT_perMm[c]);
+    }
+    return std::min(diagonal_mm, kLineDepthOpticalDepth / std::max(leastSigmaT, 1e-30f));
+}
+
+}  // namespace
+
+LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
+                       Majorants majorants, uint64_t seed)
+    : scene_(scene),
+      sensor_(surfaceVoxelSensorOf(sensor)),
+      patches_(*sensor_.patches()),
+      options_(options),
+      volpathOptions_(volpath),
+      volpath_(scene, volpath),
+      majorants_(majorants),
+      lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
+      prisms_(scene.geometry->mesh(), lineDepthFor_mm(scene)) {
+    const TriangleMesh& mesh = scene.geometry->mesh();
+    areaCdf_mm2_.reserve(mesh.triangleCount());
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Point3f& a = mesh.positions_mm[mesh.indices[3 * t]];
+        const Point3f& b = mesh.positions_mm[mesh.indices[3 * t + 1]];
+        const Point3f& c = mesh.positions_mm[mesh.indices[3 * t + 2]];
+        meshArea_mm2_ += 0.5 * double(length(cross(b - a, c - a)));
+        areaCdf_mm2_.push_back(meshArea_mm2_);
+    }
+}
+
+ChannelSample LightTrace::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
+    const Geometry& geometry = *scene_.geometry;
+    const float Le = scene_.environment[channel];
+    stats.paths += 1;
+    auto entry = geometry.intersect(ray);
+    if (!entry) return {Le};
+    // The sensor's ray runs along the patch's inward normal: the light
+    // leaving along the normal is reflected (F at normal incidence) or comes
+    // straight along the line from inside.
+    const float F = fresnelDielectric(-dot(ray.d, entry->ng), scene_.ior);
+    const Ray inward = geometry.spawnRay(entry->p, entry->ng, ray.d);
+    auto far = geometry.intersectFromInside(inward);
+    if (!far) {
+        stats.leaks += 1;
+        return {F * Le};
+    }
+    // Unscattered along the first segment (the light side has the rest).
+    const Ray fromSurface{inward.o - inward.d * inward.mediumBefore_mm, inward.d};
+    const float T = medium.transmittance(fromSurface, far->t + inward.mediumBefore_mm, channel,
+                                         TransmittanceRoulette{kConnectionRouletteDepth, &rng});
+    if (T <= 0.0f) return {F * Le};
+    // At the far boundary: the environment transmitted in, or what
+    // arrives there along the mirror direction, reflected (volpath).
+    const Vec3f n = -far->ns;  // facing against the ray
+    const float Ffar = fresnelDielectric(-dot(inward.d, n), 1.0f / scene_.ior);
+    float Lfar = (1.0f - Ffar) * Le;
+    if (rng.uniform() < Ffar)
+        Lfar += volpath_.Li(reflectedInside(geometry, inward.d, *far), channel, medium, rng, stats).value;
+    return {F * Le + (1.0f - F) * T * Lfar};
+}
+
+RGB LightTrace::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
+    return {Li(ray, 0, medium, rng, stats).value, Li(ray, 1, medium, rng, stats).value,
+            Li(ray, 2, medium, rng, stats).value};
+}
+
+void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const {
+    const uint64_t particles = std::max<uint64_t>(1, uint64_t(std::llround(options_.particlesPerPixel * double(sensor_.pixelCount()))));
+    // Each particle carries the power the environment sends into the
+    // object, Le pi A, shared among the block's particles.
+    const double weight = double(scene_.environment[channel]) * kPi * meshArea_mm2_ / double(particles);
+    if (!(weight > 0.0)) return;
+    std::vector<std::vector<double>> tallies(kBlockParts);
+    std::vector<PathStats> partStats(kBlockParts);
+    parallelForTiles(kBlockParts, 1, [&](size_t begin, size_t end) {
+        LabelMedium::Sampler medium(*scene_.medium, majorants_);
+        for (size_t part = begin; part < end; ++part) {
+            tallies[part].assign(perPixel.size(), 0.0);
+            for (uint64_t i = particles * part / kBlockParts; i < particles * (part + 1) / kBlockParts; ++i) {
+                if (interruptRequested()) return;
+                Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
+                traceParticle(channel, weight, medium, rng, tallies[part], partStats[part]);
+            }
+        }
+    });
+    for (size_t part = 0; part < kBlockParts; ++part) {
+        for (size_t p = 0; p < perPixel.size() && !tallies[part].empty(); ++p) perPixel[p] += tallies[part][p];
+        stats += partStats[part];
+    }
+}
+
+void LightTrace::traceParticle(int channel, double weight, LabelMedium::Sampler& medium, Rng& rng,
+                               std::vector<double>& perPixel, PathStats& stats) const {
+    const Geometry& geometry = *scene_.geometry;
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    // Entry: a point uniform by area, light arriving from the cosine-weighted
+    // hemisphere (pdf cos / pi, which the weight's pi A cancels).
+    const double pick = double(rng.uniform()) * meshArea_mm2_;
+    const uint32_t prim = uint32_t(std::min<size_t>(
+        std::upper_bound(areaCdf_mm2_.begin(), areaCdf_mm2_.end(), pick) - areaCdf_mm2_.begin(), areaCdf_mm2_.size() - 1));
+    const float u0 = rng.uniform(), u1 = rng.uniform();
+    const TriangleSample b = sampleUniformTriangle(u0, u1);
+    const SurfaceHit entry = geometry.pointOn(prim, b.b1, b.b2);
+    const float w0 = rng.uniform(), w1 = rng.uniform();
+    const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
+    SingleChannelPath path{&lut, channel, scene_.environment[channel]};
+    path.beta = 1.0f - fresnelDielectric(-dot(d, entry.ns), scene_.ior);
+    if (!(path.beta > 0.0f)) return;
+    const Ray ray = enteringRay(scene_, Ray{entry.p - d, d}, entry);
+
+    // Light leaving along the normal: transmitted out, and radiance / n^2
+    // (the path tracers' unit inside).
+    const float exitFactor = (1.0f - fresnelDielectric(1.0f, scene_.ior)) / (scene_.ior * scene_.ior);
+    const float lift = geometry.rayEpsilon_mm();
+    auto score = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
+        prisms_.forEachLine(y, [&](const PrismIndex::Line& line) {
+            const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
+            const Ray toSurface{y, line.normal};
+            const float T = medium.transmittance(toSurface, line.s_mm, channel,
+                                                 TransmittanceRoulette{kConnectionRouletteDepth, &rng});
+            if (T <= 0.0f) return;
+            // The line's first segment: nothing between y and the patch.
+            auto hit = geometry.intersect(toSurface, line.s_mm + lift);
+            if (!hit || hit->t < line.s_mm - lift) return;
+            auto pixel = patches_.pixelAt(line.prim, line.x_mm);
+            if (!pixel) return;
+            perPixel[*pixel] += weight * double(p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
+        });
+    };
+    walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, score);
+}
+
+}  // namespace pl

@@ -1,0 +1,73 @@
+// lighttrace: light tracing into the surface-voxel sensor's patches, where
+// one light path serves every voxel whose measurement lines it crosses
+// (docs/architecture.md, "Light tracing into the surface-voxel sensor").
+// A patch's value, the radiance leaving it along its normal averaged over
+// it, is split in two:
+//  - the camera side (Li): the environment reflected at the surface, and
+//    the light that reaches the patch along its inward normal line's first
+//    segment without scattering on it (through the segment's far boundary);
+//  - the light side (scoreLightBlock): light scattered last on that
+//    segment. Particles enter from the environment and walk with volpath's
+//    walk; every real collision scores into each patch whose inward normal
+//    line holds it, through the transmittance to the surface, the phase
+//    function towards the normal, the Fresnel transmission out and 1/n^2.
+// Each sample of a pixel is its camera sample plus one block of particles'
+// score: the blocks are independent, so the spread of a pixel's samples is
+// batch means over blocks and covers the light side's error. Separate
+// channel passes only.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/prism_index.h"
+#include "core/sensors.h"
+#include "integrators/volpath.h"
+
+namespace pl {
+
+struct LightTraceOptions {
+    // Particles per block (per sample) for each sensor pixel.
+    float particlesPerPixel = 1.0f;
+};
+
+class LightTrace : public Integrator {
+public:
+    // The sensor must be the surface-voxel sensor with the patch footprint
+    // (std::invalid_argument otherwise).
+    LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
+               Majorants majorants, uint64_t seed);
+
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const override;
+    // Three independent single-channel camera sides (the driver renders
+    // light tracing in separate passes).
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+              PathStats& stats) const override;
+    bool scoresLightPaths() const override { return true; }
+    void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
+
+    // How deep the inward normal lines reach into the object: where the
+    // least extinction of the materials leaves less than 1e-6 of the light
+    // (at most the object's diagonal).
+    float lineDepth_mm() const { return prisms_.depth_mm(); }
+
+private:
+    // One particle's walk, scoring into perPixel with its starting weight.
+    void traceParticle(int channel, double weight, LabelMedium::Sampler& medium, Rng& rng, std::vector<double>& perPixel,
+                       PathStats& stats) const;
+
+    const Scene& scene_;
+    const SurfaceVoxelSensor& sensor_;
+    const SurfacePatches& patches_;
+    LightTraceOptions options_;
+    VolPathOptions volpathOptions_;
+    VolPath volpath_;
+    Majorants majorants_;
+    uint64_t lightSeed_;
+    PrismIndex prisms_;
+    // Triangles by area, for entry points uniform over the mesh.
+    std::vector<double> areaCdf_mm2_;
+    double meshArea_mm2_ = 0;
+};
+
+}  // namespace pl

@@ -1,0 +1,111 @@
+// The volumetric random walk volpath traces, written once: delta tracking
+// for distances, HG phase sampling, Fresnel choosing reflection or
+// refraction at random, throughput Russian roulette. Light tracing walks
+// its particles with it and scores at every real collision through
+// onCollision(y, dIn, label, path), called after the albedo and before the
+// roulette.
+#pragma once
+
+#include <cstdint>
+
+#include "core/fresnel.h"
+#include "core/sampling.h"
+#include "integrators/integrator.h"
+
+namespace pl {
+
+struct VolPathOptions {
+    bool reentry = false;  // trace light that leaves the object back against it
+    int64_t maxDepth = -1; // scattering events per path; < 0: unlimited (unbiased)
+};
+
+// Walks `ray` (from outside, or spawned inside) and returns the
+// environment light the path gathers.
+template <class Path, class OnCollision>
+typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, Ray ray, Path& path,
+                                LabelMedium::Sampler& medium, Rng& rng, PathStats& stats, OnCollision&& onCollision) {
+    const Geometry& geometry = *scene.geometry;
+    const float lift = geometry.surfaceLift_mm();
+    typename Path::Value L{};   // radiance gathered (only at the end of the path)
+    int64_t depth = 0;          // scattering events
+    int64_t bounces = 0;        // boundary events since the last scattering event
+    bool spawnedInside = false; // only for counting numerical leaks
+    stats.paths += 1;
+
+    for (;;) {
+        // Which side the ray is on follows from the boundary it reaches
+        // next, never from a remembered state: a ray that round-off put on
+        // the other side stays consistent.
+        auto hit = geometry.intersect(ray);
+        if (!hit) {
+            if (spawnedInside) stats.leaks += 1;
+            path.addLight(L, 1.0f);  // escapes to the environment
+            return L;
+        }
+        bool fromInside = dot(ray.d, hit->ng) > 0;
+
+        if (fromInside) {
+            // Medium: delta tracking up to the boundary.
+            FreeFlight ff =
+                flightFromSurface(ray, hit->t, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
+            if (ff.scattered) {
+                // Real collision: absorb by throughput Russian roulette.
+                stats.scatterEvents += 1;
+                bounces = 0;
+                path.collide(ff.label);
+                // Keep the vertex strictly inside: a collision within float
+                // round-off of the boundary could otherwise land outside.
+                // (By the surface lift only: a rayEpsilon here would move
+                // collisions a mean free path deep at sigma_t 1e4/mm.)
+                float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
+                float t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
+                const Point3f y = ray.at(t);
+                onCollision(y, ray.d, ff.label, path);
+                float q = path.rouletteValue();
+                if (q < 1.0f) {
+                    if (!(rng.uniform() < q)) return L;
+                    path.scale(1.0f / q);
+                }
+                if (options.maxDepth >= 0 && ++depth > options.maxDepth) return L;
+                Vec3f dOut = path.samplePhase(ff.label, ray.d, rng);
+                ray = {y, dOut};
+                spawnedInside = true;
+                continue;
+            }
+        }
+        // Light that only ever meets the boundary (total internal reflection
+        // in a lossless region) would bounce forever: give up after a very
+        // long run without scattering; it never reaches the environment.
+        if (++bounces > kMaxBoundaryBounces) {
+            stats.trapped += 1;
+            return L;
+        }
+
+        // Smooth dielectric: reflect with probability F (1 under total
+        // internal reflection), else refract to the other side.
+        float eta = fromInside ? 1.0f / scene.ior : scene.ior;
+        Vec3f n = fromInside ? -hit->ns : hit->ns;  // facing against the ray
+        float F = fresnelDielectric(-dot(ray.d, n), eta);
+        bool reflected = rng.uniform() < F;
+        bool nowOutside = fromInside != reflected;
+        // Without re-entry, light that leaves the object is done.
+        if (nowOutside && !options.reentry) {
+            path.addLight(L, 1.0f);
+            return L;
+        }
+        Vec3f d;
+        if (reflected) {
+            d = reflectOnSide(ray.d, *hit);
+        } else {
+            auto t = refract(ray.d, n, eta);
+            d = t ? *t : ray.d;
+        }
+        // Shading normals must not send the ray to the wrong side.
+        float side = nowOutside ? 1.0f : -1.0f;
+        if (dot(d, hit->ng) * side <= 0) d = hit->ng * side;
+        ray = geometry.spawnRay(hit->p, hit->ng, d);
+        spawnedInside = !nowOutside;
+    }
+}
+
+}  // namespace pl
