@@ -32,16 +32,22 @@ const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
     return *s;
 }
 
-float lineDepthFor_mm(const Scene& scene) {
+// The least extinction per channel of the labels the grid holds (void aside).
+RGB leastSigmaTOf(const Scene& scene) {
+    const std::array<uint64_t, 256> voxels = scene.medium->grid().histogram();
+    RGB least{1e30f, 1e30f, 1e30f};
+    for (int l = 0; l < 256; ++l) {
+        if (voxels[l] == 0 || l == scene.medium->grid().voidLabel()) continue;
+        for (int c = 0; c < 3; ++c) least[c] = std::min(least[c], scene.medium->lut(c).sigmaT_perMm[l]);
+    }
+    return least;
+}
+
+float lineDepthFor_mm(const Scene& scene, const RGB& leastSigmaT) {
     const Bounds3f b = scene.geometry->bounds();
     const float diagonal_mm = length(b.hi - b.lo);
-    float leastSigmaT = 1e30f;
-    const MaterialTable& table = scene.medium->materials();
-    for (int l = 0; l < 256; ++l) {
-        if (!table.byLabel[l].defined || l == scene.medium->grid().voidLabel()) continue;
-        for (int c = 0; c < 3; ++c) leastSigmaT = std::min(leastSigmaT, table.byLabel[l].sigmaT_perMm[c]);
-    }
-    return std::min(diagonal_mm, kLineDepthOpticalDepth / std::max(leastSigmaT, 1e-30f));
+    const float least = std::min(leastSigmaT[0], std::min(leastSigmaT[1], leastSigmaT[2]));
+    return std::min(diagonal_mm, kLineDepthOpticalDepth / std::max(least, 1e-30f));
 }
 
 }  // namespace
@@ -56,7 +62,8 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       volpath_(scene, volpath),
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
-      prisms_(scene.geometry->mesh(), lineDepthFor_mm(scene)) {
+      leastSigmaT_(leastSigmaTOf(scene)),
+      prisms_(scene.geometry->mesh(), lineDepthFor_mm(scene, leastSigmaT_)) {
     const TriangleMesh& mesh = scene.geometry->mesh();
     areaCdf_mm2_.reserve(mesh.triangleCount());
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -152,18 +159,32 @@ void LightTrace::traceParticle(int channel, double weight, LabelMedium::Sampler&
     // (the path tracers' unit inside).
     const float exitFactor = (1.0f - fresnelDielectric(1.0f, scene_.ior)) / (scene_.ior * scene_.ior);
     const float lift = geometry.rayEpsilon_mm();
+    const float leastSigmaT = leastSigmaT_[channel];
+    // The transmittance to a surface point s_mm away is at most
+    // exp(-leastSigmaT s): connections are played by Russian roulette on
+    // that bound before any work (survival exp(-(bound's depth -
+    // kConnectionRouletteDepth))), and the survivors' transmittance
+    // estimates carry the log of the scale (TransmittanceRoulette::logScale).
+    auto rouletteLogScale = [&](float distance_mm) {
+        return std::max(0.0f, leastSigmaT * distance_mm - kConnectionRouletteDepth);
+    };
     auto score = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
+        // Every line's surface point is at least the clearance away.
+        const float nearLogScale = scene_.clearance ? rouletteLogScale(scene_.clearance->at(y)) : 0.0f;
+        if (nearLogScale > 0.0f && !(rng.uniform() < std::exp(-nearLogScale))) return;
         prisms_.forEachLine(y, [&](const PrismIndex::Line& line) {
-            const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
+            const float logScale = std::max(nearLogScale, rouletteLogScale(line.s_mm));
+            if (logScale > nearLogScale && !(rng.uniform() < std::exp(nearLogScale - logScale))) return;
             const Ray toSurface{y, line.normal};
             const float T = medium.transmittance(toSurface, line.s_mm, channel,
-                                                 TransmittanceRoulette{kConnectionRouletteDepth, &rng});
+                                                 TransmittanceRoulette{kConnectionRouletteDepth, &rng, logScale});
             if (T <= 0.0f) return;
             // The line's first segment: nothing between y and the patch.
             auto hit = geometry.intersect(toSurface, line.s_mm + lift);
             if (!hit || hit->t < line.s_mm - lift) return;
             auto pixel = patches_.pixelAt(line.prim, line.x_mm);
             if (!pixel) return;
+            const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
             perPixel[*pixel] += weight * double(p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
         });
     };

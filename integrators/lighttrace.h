@@ -47,8 +47,8 @@ public:
     void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
 
     // How deep the inward normal lines reach into the object: where the
-    // least extinction of the materials leaves less than 1e-6 of the light
-    // (at most the object's diagonal).
+    // least extinction of the labels in the grid leaves less than 1e-6 of
+    // the light (at most the object's diagonal).
     float lineDepth_mm() const { return prisms_.depth_mm(); }
 
 private:
@@ -64,6 +64,7 @@ private:
     VolPath volpath_;
     Majorants majorants_;
     uint64_t lightSeed_;
+    RGB leastSigmaT_;  // per channel, of the labels the grid holds
     PrismIndex prisms_;
     // Triangles by area, for entry points uniform over the mesh.
     std::vector<double> areaCdf_mm2_;

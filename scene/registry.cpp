@@ -27,7 +27,7 @@ const std::vector<IntegratorKind>& integratorKinds() {
             std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
              return std::make_unique<PrintPt>(scene, s.printpt, s.seed, std::move(controlMeans));
          }},
-        {"lighttrace", [](const RenderSettings&) { return SceneNeeds{}; },
+        {"lighttrace", [](const RenderSettings&) { return SceneNeeds{false, true}; },
          [](const RenderSettings& s) {
              return s.volpath.reentry
                         ? std::string("lighttrace does not trace re-entry; the scene asks for \"reentry\": true")
