@@ -61,15 +61,14 @@ inline DirectionSample sampleVMF(const Vec3f& mu, float kappa, float u0, float u
     return {d, vmfPdf(mu, kappa, d)};
 }
 
-// A point uniform by area on a triangle (v0 + b1 e1 + b2 e2), by the
-// square-root parametrisation: the barycentrics (b1, b2) and the pdf per
-// unit of the triangle's area (1 / area).
+// A point uniform by area on a triangle (b0 v0 + b1 v1 + b2 v2; pdf 1 /
+// area), by the square-root parametrisation: its barycentrics.
 struct TriangleSample {
-    float b1, b2;
+    float b0, b1, b2;
 };
 inline TriangleSample sampleUniformTriangle(float u0, float u1) {
     const float s = std::sqrt(u0);
-    return {s * (1.0f - u1), s * u1};
+    return {1.0f - s, s * (1.0f - u1), s * u1};
 }
 
 // A direction about +z with pdf cos(theta) / pi (Malley's method).

@@ -197,7 +197,7 @@ std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, f
     for (; p + 1 != e && target >= p->area_mm2; ++p) target -= p->area_mm2;
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);
     const TriangleSample bary = sampleUniformTriangle(v0, u1);
-    const Point3f x = p->a * (1.0f - bary.b1 - bary.b2) + p->b * bary.b1 + p->c * bary.b2;
+    const Point3f x = p->a * bary.b0 + p->b * bary.b1 + p->c * bary.b2;
     return PatchPoint{x, p->normal, p->prim};
 }
 
