@@ -12,7 +12,7 @@ const char* kUsage =
     "commands:\n"
     "  render SCENE.json [--spp N] [--seed S] [--threads N] [--channel r|g|b|rgb]\n"
     "         [--channel-sampling separate|hero|spectral]\n"
-    "         [--integrator volpath|printpt] [-o OUT] [--quiet]\n"
+    "         [--integrator volpath|printpt|lighttrace] [-o OUT] [--quiet]\n"
     "         renders a scene; writes OUT.exr, OUT.png and, for the surface-voxel sensor, OUT.vdb\n"
     "  prepare MODEL.gltf|.glb|.obj -o OUT.vdb [--voxel X,Y,Z] [--extrude-mm D] [--margin-mm M]\n"
     "          [--materials FILE] [--halftone error-diffusion|nearest] [--fill conservative|center]\n"
