@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "runtime/interrupt.h"
@@ -62,8 +63,10 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       volpath_(scene, volpath),
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
-      leastSigmaT_(leastSigmaTOf(scene)),
-      prisms_(scene.geometry->mesh(), lineDepthFor_mm(scene, leastSigmaT_)) {
+      leastSigmaT_(leastSigmaTOf(scene)) {
+    const float depth_mm = lineDepthFor_mm(scene, leastSigmaT_);
+    for (float fraction : {0.125f, 0.25f, 0.5f, 1.0f})
+        prismLevels_.push_back(std::make_unique<PrismIndex>(scene.geometry->mesh(), depth_mm * fraction));
     const TriangleMesh& mesh = scene.geometry->mesh();
     areaCdf_mm2_.reserve(mesh.triangleCount());
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
@@ -169,12 +172,24 @@ void LightTrace::traceParticle(int channel, double weight, LabelMedium::Sampler&
         return std::max(0.0f, leastSigmaT * distance_mm - kConnectionRouletteDepth);
     };
     auto score = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
-        // Every line's surface point is at least the clearance away.
+        // One uniform number plays every line's roulette: line s survives if
+        // u < exp(-logScale(s)), still with that probability on its own, and
+        // only lines shallower than sMax can. Every line's surface point is
+        // at least the clearance away.
+        const float u = rng.uniform();
         const float nearLogScale = scene_.clearance ? rouletteLogScale(scene_.clearance->at(y)) : 0.0f;
-        if (nearLogScale > 0.0f && !(rng.uniform() < std::exp(-nearLogScale))) return;
-        prisms_.forEachLine(y, [&](const PrismIndex::Line& line) {
-            const float logScale = std::max(nearLogScale, rouletteLogScale(line.s_mm));
-            if (logScale > nearLogScale && !(rng.uniform() < std::exp(nearLogScale - logScale))) return;
+        if (!(u < std::exp(-nearLogScale))) return;
+        const float sMax_mm =
+            leastSigmaT > 0.0f ? (kConnectionRouletteDepth - std::log(u)) / leastSigmaT : std::numeric_limits<float>::infinity();
+        const PrismIndex* prisms = prismLevels_.back().get();
+        for (const auto& level : prismLevels_)
+            if (level->depth_mm() >= sMax_mm) {
+                prisms = level.get();
+                break;
+            }
+        prisms->forEachLine(y, [&](const PrismIndex::Line& line) {
+            const float logScale = rouletteLogScale(line.s_mm);
+            if (!(u < std::exp(-logScale))) return;
             const Ray toSurface{y, line.normal};
             const float T = medium.transmittance(toSurface, line.s_mm, channel,
                                                  TransmittanceRoulette{kConnectionRouletteDepth, &rng, logScale});

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "core/prism_index.h"
@@ -49,7 +50,7 @@ public:
     // How deep the inward normal lines reach into the object: where the
     // least extinction of the labels in the grid leaves less than 1e-6 of
     // the light (at most the object's diagonal).
-    float lineDepth_mm() const { return prisms_.depth_mm(); }
+    float lineDepth_mm() const { return prismLevels_.back()->depth_mm(); }
 
 private:
     // One particle's walk, scoring into perPixel with its starting weight.
@@ -65,7 +66,10 @@ private:
     Majorants majorants_;
     uint64_t lightSeed_;
     RGB leastSigmaT_;  // per channel, of the labels the grid holds
-    PrismIndex prisms_;
+    // The prisms at depths lineDepth / 8, / 4, / 2 and lineDepth: a
+    // collision queries the shallowest that holds every line its roulette
+    // keeps (shallow prisms overlap less).
+    std::vector<std::unique_ptr<PrismIndex>> prismLevels_;
     // Triangles by area, for entry points uniform over the mesh.
     std::vector<double> areaCdf_mm2_;
     double meshArea_mm2_ = 0;
