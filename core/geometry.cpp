@@ -190,6 +190,19 @@ SurfaceHit Geometry::pointOn(uint32_t prim, float u, float v) const {
     return hit;
 }
 
+SurfaceHit Geometry::pointAt(uint32_t prim, const Point3f& p) const {
+    const uint32_t* idx = &mesh_.indices[3 * size_t(prim)];
+    const Point3f& a = mesh_.positions_mm[idx[0]];
+    const Vec3f e1 = mesh_.positions_mm[idx[1]] - a, e2 = mesh_.positions_mm[idx[2]] - a, ap = p - a;
+    // Barycentrics by least squares in the triangle's plane.
+    const float d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2);
+    const float dp1 = dot(ap, e1), dp2 = dot(ap, e2), det = d11 * d22 - d12 * d12;
+    SurfaceHit hit = det > 0.0f ? pointOn(prim, (d22 * dp1 - d12 * dp2) / det, (d11 * dp2 - d12 * dp1) / det)
+                                : pointOn(prim, 0.0f, 0.0f);
+    hit.p = p;
+    return hit;
+}
+
 std::optional<ClosestSurfacePoint> Geometry::closestPoint(const Point3f& p,
                                                           float radius_mm) const {
     RTCPointQuery query;

@@ -64,6 +64,8 @@ public:
     // The point of triangle prim at barycentrics (u, v) (v0 + u e1 + v e2),
     // with its normals; t is 0.
     SurfaceHit pointOn(uint32_t prim, float u, float v) const;
+    // The same for a point p of triangle prim.
+    SurfaceHit pointAt(uint32_t prim, const Point3f& p) const;
     // Closest point on the mesh within radius_mm of p.
     std::optional<ClosestSurfacePoint> closestPoint(const Point3f& p, float radius_mm) const;
     // Whether any triangle intersects the axis-aligned box [lo, hi].

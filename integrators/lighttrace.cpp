@@ -115,21 +115,42 @@ RGB LightTrace::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler& mediu
 }
 
 void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const {
-    const uint64_t particles = std::max<uint64_t>(1, uint64_t(std::llround(options_.particlesPerPixel * double(sensor_.pixelCount()))));
-    // Each particle carries the power the environment sends into the
-    // object, Le pi A, shared among the block's particles.
-    const double weight = double(scene_.environment[channel]) * kPi * meshArea_mm2_ / double(particles);
-    if (!(weight > 0.0)) return;
+    const double Le = scene_.environment[channel];
+    if (!(Le > 0.0)) return;
+    const double perPixelCount = options_.particlesPerPixel;
+    // Entry points are stratified by patch where the patches tile the mesh:
+    // every patch receives its share of each block's particles (whole
+    // particles, the fraction by a coin), so the number entering near a
+    // voxel does not fluctuate. Each carries the power the environment
+    // sends into its patch, Le pi A, over the expected count. Elsewhere
+    // they enter uniformly over the mesh.
+    const bool stratified = patches_.unassignedArea_mm2() == 0.0;
+    const uint64_t units = stratified ? sensor_.pixelCount()
+                                      : std::max<uint64_t>(1, uint64_t(std::llround(perPixelCount * double(sensor_.pixelCount()))));
     std::vector<std::vector<double>> tallies(kBlockParts);
     std::vector<PathStats> partStats(kBlockParts);
     parallelForTiles(kBlockParts, 1, [&](size_t begin, size_t end) {
         LabelMedium::Sampler medium(*scene_.medium, majorants_);
         for (size_t part = begin; part < end; ++part) {
             tallies[part].assign(perPixel.size(), 0.0);
-            for (uint64_t i = particles * part / kBlockParts; i < particles * (part + 1) / kBlockParts; ++i) {
+            for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
                 if (interruptRequested()) return;
                 Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
-                traceParticle(channel, weight, medium, rng, tallies[part], partStats[part]);
+                if (!stratified) {
+                    const SurfaceHit entry = entryOnMesh(rng);
+                    traceParticle(channel, entry, Le * kPi * meshArea_mm2_ / double(units), medium, rng, tallies[part],
+                                  partStats[part]);
+                    continue;
+                }
+                const double whole = std::floor(perPixelCount);
+                const int count = int(whole) + (rng.uniform() < perPixelCount - whole ? 1 : 0);
+                const double weight = Le * kPi * patches_.area_mm2(i) / perPixelCount;
+                for (int j = 0; j < count; ++j) {
+                    const float u0 = rng.uniform(), u1 = rng.uniform();
+                    const auto x = patches_.sample(i, u0, u1);
+                    traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tallies[part],
+                                  partStats[part]);
+                }
             }
         }
     });
@@ -139,18 +160,21 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
     }
 }
 
-void LightTrace::traceParticle(int channel, double weight, LabelMedium::Sampler& medium, Rng& rng,
-                               std::vector<double>& perPixel, PathStats& stats) const {
-    const Geometry& geometry = *scene_.geometry;
-    const ChannelLut& lut = scene_.medium->lut(channel);
-    // Entry: a point uniform by area, light arriving from the cosine-weighted
-    // hemisphere (pdf cos / pi, which the weight's pi A cancels).
+SurfaceHit LightTrace::entryOnMesh(Rng& rng) const {
     const double pick = double(rng.uniform()) * meshArea_mm2_;
     const uint32_t prim = uint32_t(std::min<size_t>(
         std::upper_bound(areaCdf_mm2_.begin(), areaCdf_mm2_.end(), pick) - areaCdf_mm2_.begin(), areaCdf_mm2_.size() - 1));
     const float u0 = rng.uniform(), u1 = rng.uniform();
     const TriangleSample b = sampleUniformTriangle(u0, u1);
-    const SurfaceHit entry = geometry.pointOn(prim, b.b1, b.b2);
+    return scene_.geometry->pointOn(prim, b.b1, b.b2);
+}
+
+void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium,
+                               Rng& rng, std::vector<double>& perPixel, PathStats& stats) const {
+    const Geometry& geometry = *scene_.geometry;
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    // Light arriving from the cosine-weighted hemisphere (pdf cos / pi,
+    // which the weight's pi cancels).
     const float w0 = rng.uniform(), w1 = rng.uniform();
     const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
     SingleChannelPath path{&lut, channel, scene_.environment[channel]};

@@ -53,9 +53,12 @@ public:
     float lineDepth_mm() const { return prismLevels_.back()->depth_mm(); }
 
 private:
-    // One particle's walk, scoring into perPixel with its starting weight.
-    void traceParticle(int channel, double weight, LabelMedium::Sampler& medium, Rng& rng, std::vector<double>& perPixel,
-                       PathStats& stats) const;
+    // A point uniform by area over the mesh.
+    SurfaceHit entryOnMesh(Rng& rng) const;
+    // One particle's walk from the environment through `entry`, scoring
+    // into perPixel with its starting weight.
+    void traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium, Rng& rng,
+                       std::vector<double>& perPixel, PathStats& stats) const;
 
     const Scene& scene_;
     const SurfaceVoxelSensor& sensor_;
