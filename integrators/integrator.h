@@ -118,6 +118,12 @@ public:
     virtual bool scoresLightPaths() const { return false; }
     virtual void scoreLightBlock(int /*channel*/, uint32_t /*sample*/, std::vector<double>& /*perPixel*/,
                                  PathStats& /*stats*/) const {}
+    // With light paths: the camera's share of pixel p's sample, what the
+    // light paths do not score there.
+    virtual ChannelSample cameraSide(size_t /*pixel*/, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                                     PathStats& stats) const {
+        return Li(ray, channel, medium, rng, stats);
+    }
 };
 
 }  // namespace pl

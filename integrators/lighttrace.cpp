@@ -76,9 +76,19 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         meshArea_mm2_ += 0.5 * double(length(cross(b - a, c - a)));
         areaCdf_mm2_.push_back(meshArea_mm2_);
     }
+    const Vec3f v = scene.medium->frame().voxelSize_mm;
+    lightServes_.resize(sensor_.pixelCount());
+    for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
+        const Vec3f n = sensor_.pixels()[p].normal;
+        const double crossSection_mm2 = std::abs(n.x) * v.y * v.z + std::abs(n.y) * v.x * v.z + std::abs(n.z) * v.x * v.y;
+        lightServes_[p] = patches_.area_mm2(p) >= kMinPatchFraction * crossSection_mm2;
+        cameraOnlyPixels_ += !lightServes_[p];
+    }
 }
 
-ChannelSample LightTrace::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
+ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                                     PathStats& stats) const {
+    if (!lightServes_[pixel]) return volpath_.Li(ray, channel, medium, rng, stats);
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     stats.paths += 1;
@@ -107,11 +117,6 @@ ChannelSample LightTrace::Li(Ray ray, int channel, LabelMedium::Sampler& medium,
     if (rng.uniform() < Ffar)
         Lfar += volpath_.Li(reflectedInside(geometry, inward.d, *far), channel, medium, rng, stats).value;
     return {F * Le + (1.0f - F) * T * Lfar};
-}
-
-RGB LightTrace::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const {
-    return {Li(ray, 0, medium, rng, stats).value, Li(ray, 1, medium, rng, stats).value,
-            Li(ray, 2, medium, rng, stats).value};
 }
 
 void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const {
@@ -222,7 +227,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             auto hit = geometry.intersect(toSurface, line.s_mm + lift);
             if (!hit || hit->t < line.s_mm - lift) return;
             auto pixel = patches_.pixelAt(line.prim, line.x_mm);
-            if (!pixel) return;
+            if (!pixel || !lightServes_[*pixel]) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
             perPixel[*pixel] += weight * double(p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
         });

@@ -39,13 +39,27 @@ public:
     LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
                Majorants majorants, uint64_t seed);
 
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const override;
-    // Three independent single-channel camera sides (the driver renders
-    // light tracing in separate passes).
+    // Without the light side: volpath's estimate.
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const override {
+        return volpath_.Li(ray, channel, medium, rng, stats);
+    }
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
-              PathStats& stats) const override;
+              PathStats& stats) const override {
+        return volpath_.LiRGB(ray, sampling, hero, medium, rng, stats);
+    }
     bool scoresLightPaths() const override { return true; }
     void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
+    // The reflection and the unscattered light of the line's first segment
+    // where the light side scores; volpath's whole estimate on patches
+    // too small for it.
+    ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+                             PathStats& stats) const override;
+    // Pixels whose patch is at least this fraction of the voxel's cross
+    // section along the patch's normal: smaller ones (slivers of triangles
+    // the cut gave to a voxel) would take 1 / area of every score that
+    // lands under them, rare and large.
+    static constexpr float kMinPatchFraction = 0.25f;
+    size_t cameraOnlyPixels() const { return cameraOnlyPixels_; }
 
     // How deep the inward normal lines reach into the object: where the
     // least extinction of the labels in the grid leaves less than 1e-6 of
@@ -75,6 +89,9 @@ private:
     std::vector<std::unique_ptr<PrismIndex>> prismLevels_;
     // Triangles by area, for entry points uniform over the mesh.
     std::vector<double> areaCdf_mm2_;
+    // Per pixel: whether the light side scores into it.
+    std::vector<bool> lightServes_;
+    size_t cameraOnlyPixels_ = 0;
     double meshArea_mm2_ = 0;
 };
 

@@ -38,7 +38,8 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
                 const size_t p = pixels.empty() ? i : pixels[i];
                 Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
                 float u0 = rng.uniform(), u1 = rng.uniform();
-                ChannelSample sample = integrator.Li(sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
+                ChannelSample sample =
+                    integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
                 sample.value += float(light[p]);
                 result.film.add(p, channel, sample);
             }

@@ -146,6 +146,33 @@ TEST(LightTrace, AgreesWithVolpathOnAHalftone) {
     expectAgreementWithVolpath(test::boxScene(kResolution, kVoxel_mm, halftone, t, 1.5f), "halftone");
 }
 
+// A ball (a curved mesh cut into patches, some of them slivers that the
+// light side leaves to volpath) of a halftone: voxel by voxel as volpath.
+// The mesh has no file normals: lighttrace leaves along the geometric
+// normal, where volpath would refract the sensor's ray by a shading normal.
+TEST(LightTrace, AgreesWithVolpathOnACurvedHalftone) {
+    MaterialTable t = test::tableOf({{0, material({30, 30, 30}, {0.2f, 0.9f, 0.95f}, {0.3f, 0.3f, 0.3f})},
+                                     {4, material({20, 20, 20}, {0.99f, 0.99f, 0.99f}, {0.3f, 0.3f, 0.3f})}});
+    const float radius_mm = 0.45f, voxel_mm = 0.05f;
+    const Point3f centre{0.5f, 0.5f, 0.5f};
+    LabelGrid grid = test::boxGrid({20, 20, 20}, {voxel_mm, voxel_mm, voxel_mm}, [&](const Vec3i& v) {
+        const Point3f c{(v.x + 0.5f) * voxel_mm, (v.y + 0.5f) * voxel_mm, (v.z + 0.5f) * voxel_mm};
+        if (!(length(c - centre) < radius_mm)) return test::kTestVoid;
+        return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 2 ? 4 : 0);
+    });
+    TriangleMesh ball = synthetic::sphereMesh(centre, radius_mm, 48);
+    ball.normals.clear();
+    const Scene scene = synthetic::sceneOf(std::move(ball), std::move(grid), t, 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
+    RenderSettings s;
+    s.integrator = "lighttrace";
+    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.majorants, s.seed);
+    EXPECT_GT(probe.cameraOnlyPixels(), 0u);
+    EXPECT_LT(probe.cameraOnlyPixels(), sensor.pixelCount() / 4);
+    expectAgreementWithVolpath(scene, "ball");
+}
+
 // The deterministic discrete-ordinates solve of a slab (media/slab_transport.h)
 // on the central voxels of a 2 x 2 x 0.6 mm slab at sigma_t 100 /mm, n = 1.5
 // (the centre is 9 diffusion lengths of the most scattering channel from
