@@ -24,11 +24,16 @@ namespace pl {
 //    the second moment of the residuals is pooled over every sample of
 //    that kind in the render, since a pixel's own few samples may not have
 //    met one of the events.
+//  - poolWhereFlat: the pooled error stands in only where a pixel's
+//    samples are all equal (a walk that is almost always absorbed gives
+//    the same value every time, and its spread 0 says nothing of the rare
+//    walks that bring light); otherwise it is a bound beside the spread.
 struct ChannelSample {
     float value = 0.0f;
     float sharedError = 0.0f;
     int32_t poolKey = -1;  // -1: none
     float residual = 0.0f;
+    bool poolWhereFlat = false;
 };
 
 class Film {
@@ -43,7 +48,10 @@ public:
         a.sharedErrorSum += sample.sharedError;
         if (sample.poolKey >= 0) {
             // A pixel's samples share its entry: the first key stands for all.
-            if (a.poolKey < 0) a.poolKey = sample.poolKey;
+            if (a.poolKey < 0) {
+                a.poolKey = sample.poolKey;
+                a.poolWhereFlat = sample.poolWhereFlat;
+            }
             a.residualSqSum += double(sample.residual) * sample.residual;
             a.pooledSamples += 1;
         }
@@ -83,9 +91,12 @@ public:
     float pooledError(size_t pixel, int channel) const { return acc_[pixel][channel].pooledError; }
     // The error independent of other pixels': the larger of the spread and
     // the pooled estimate (both estimate it; the pooled one also where the
-    // pixel's samples missed the rare events).
+    // pixel's samples missed the rare events), or, for samples pooled
+    // where flat, the spread unless the samples are all equal.
     float independentError(size_t pixel, int channel) const {
-        return std::max(spreadError(pixel, channel), pooledError(pixel, channel));
+        const float spread = spreadError(pixel, channel);
+        if (acc_[pixel][channel].poolWhereFlat) return spread > 0.0f ? spread : pooledError(pixel, channel);
+        return std::max(spread, pooledError(pixel, channel));
     }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
@@ -114,6 +125,7 @@ private:
         uint32_t units = 0;         // independent units (samples or groups)
         uint32_t pooledSamples = 0;
         int32_t poolKey = -1;
+        bool poolWhereFlat = false;
         float pooledError = 0;
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;

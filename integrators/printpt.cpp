@@ -9,11 +9,17 @@
 
 namespace pl {
 
+namespace {
+// Pool keys of uncontrolled walks (per channel and entry label), above
+// every control's key.
+constexpr int32_t kUncontrolledPoolKeys = 1 << 24;
+}  // namespace
+
 ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                           PathStats& stats) const {
     return traceOneChannel(scene_, channel, [&](const auto& path) {
         Traced<float> t = trace(ray, path, medium, rng, stats);
-        return ChannelSample{t.L, t.sharedError, t.controlKey, t.residual};
+        return ChannelSample{t.L, t.sharedError, t.poolKey, t.residual, t.poolWhereFlat};
     });
 }
 
@@ -63,8 +69,12 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
     if (control) {
         // Every branch adds the same mean: its error is shared, not averaged.
         result.sharedError = transmitted * control->meanError;
-        result.controlKey = control->key;
+        result.poolKey = control->key;
         stats.controlledWalks[int(control->kind)] += uint64_t(k);
+    } else if constexpr (std::is_same_v<Path, SingleChannelPath>) {
+        const Label entryLabel = medium.labelAt(scene_.medium->voxelAt(inside.o));
+        result.poolKey = kUncontrolledPoolKeys + int32_t(path.channel) * 256 + int32_t(entryLabel);
+        result.poolWhereFlat = true;
     }
     for (int b = 0; b < k; ++b) {
         // Each walk starts at throughput 1 (Russian roulette is relative to it).
@@ -82,8 +92,10 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
         } else {
             Lb = (this->*walkPath)(inside, path, medium, rng, stats);
         }
-        if constexpr (std::is_same_v<typename Path::Value, float>) L += branchWeight * Lb;
-        else
+        if constexpr (std::is_same_v<typename Path::Value, float>) {
+            L += branchWeight * Lb;
+            if (!control) result.residual += branchWeight * Lb;
+        } else
             for (int c = 0; c < 3; ++c) L[c] += branchWeight * Lb[c];
     }
     return result;

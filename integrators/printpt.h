@@ -68,13 +68,17 @@ public:
 private:
     // A sample's radiance and, with a control, the standard error it shares
     // through the control's mean, the control's key (ControlVariate::key) and the
-    // sample's residual (its walks' f - g, weighted as in L).
+    // sample's residual (its walks' f - g, weighted as in L). Without a
+    // control, single-channel samples are pooled by entry label and
+    // channel where a pixel's samples are all equal: residual is what the
+    // walks brought (Film, ChannelSample::poolWhereFlat).
     template <class Value>
     struct Traced {
         Value L{};
         float sharedError = 0.0f;
-        int32_t controlKey = -1;
+        int32_t poolKey = -1;
         float residual = 0.0f;
+        bool poolWhereFlat = false;
     };
     // Camera ray to entry, Fresnel there, and the branches' walks.
     template <class Path>

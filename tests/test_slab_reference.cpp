@@ -140,6 +140,21 @@ TEST(SlabReference, PrintPtWithControlsOnACameraAndOnSurfaceVoxels) {
     }
 }
 
+// In dark resin almost every walk is absorbed: a pixel's 8 samples are
+// often all the reflected F Le, and their spread says 0. The rare walks
+// that bring light are in the error all the same (pooled by entry label
+// where the samples are all equal): every pixel reports an error, and the
+// solver's value lies within 4 of them.
+TEST(SlabReference, PrintPtInDarkResinReportsAnErrorWhereItsSamplesAreAllEqual) {
+    const SlabCase dark{{0.05f, 0.1f, 0.2f}, {0.4f, 0.4f, 0.4f}, 60};
+    Scene scene = slabScene(dark);
+    SurfaceVoxelSensor voxels = topVoxels(scene, dark);
+    RenderSettings s;
+    s.integrator = "printpt";
+    s.spp = 8;
+    checkAgainst(render(scene, voxels, s), slabReference(dark), "dark slab");
+}
+
 // In dense resin the first nanometres under the surface matter: a ray
 // spawned into the object starts surfaceLift inside (Geometry::spawnRay),
 // and when its flights did not count the medium before its origin
