@@ -52,6 +52,7 @@ public:
                 a.poolKey = sample.poolKey;
                 a.poolWhereFlat = sample.poolWhereFlat;
             }
+            a.residualSum += sample.residual;
             a.residualSqSum += double(sample.residual) * sample.residual;
             a.pooledSamples += 1;
         }
@@ -68,7 +69,10 @@ public:
     }
     // Pools the residuals' second moments per key over all pixels (in pixel
     // order: the same bits whatever the threads) and sets every pooled
-    // pixel's pooledError. Call after adding samples.
+    // pixel's pooledError: from the second moment (a bound; control
+    // residuals, whose mean is about 0), or for keys pooled where flat from
+    // the variance over the key's samples (samples that never vary, as in
+    // a white furnace, have none). Call after adding samples.
     void poolResiduals();
 
     uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
@@ -120,6 +124,7 @@ private:
     struct Accumulator {
         double sum = 0, sumSq = 0;
         double sharedErrorSum = 0;  // of the samples' shared standard errors
+        double residualSum = 0;     // of the pooled samples' residuals
         double residualSqSum = 0;   // of the pooled samples' residuals squared
         uint32_t count = 0;         // samples
         uint32_t units = 0;         // independent units (samples or groups)

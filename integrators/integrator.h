@@ -84,6 +84,13 @@ inline Ray enteringRay(const Scene& scene, const Ray& camera, const SurfaceHit& 
     return scene.geometry->spawnRay(entry.p, entry.ng, d);
 }
 
+// The key under which samples without a control are pooled where a
+// pixel's samples are all equal (ChannelSample::poolWhereFlat): the
+// channel and the label just inside the entry. Above every control's key.
+inline int32_t entryPoolKey(int channel, Label entryLabel) {
+    return (int32_t(1) << 24) + int32_t(channel) * 256 + int32_t(entryLabel);
+}
+
 // The path an estimator traces for one channel, or for all three with the
 // chosen sampling: trace(path) returns the radiance it gathers.
 template <class Trace>

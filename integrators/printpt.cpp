@@ -9,12 +9,6 @@
 
 namespace pl {
 
-namespace {
-// Pool keys of uncontrolled walks (per channel and entry label), above
-// every control's key.
-constexpr int32_t kUncontrolledPoolKeys = 1 << 24;
-}  // namespace
-
 ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                           PathStats& stats) const {
     return traceOneChannel(scene_, channel, [&](const auto& path) {
@@ -72,8 +66,7 @@ PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, 
         result.poolKey = control->key;
         stats.controlledWalks[int(control->kind)] += uint64_t(k);
     } else if constexpr (std::is_same_v<Path, SingleChannelPath>) {
-        const Label entryLabel = medium.labelAt(scene_.medium->voxelAt(inside.o));
-        result.poolKey = kUncontrolledPoolKeys + int32_t(path.channel) * 256 + int32_t(entryLabel);
+        result.poolKey = entryPoolKey(path.channel, medium.labelAt(scene_.medium->voxelAt(inside.o)));
         result.poolWhereFlat = true;
     }
     for (int b = 0; b < k; ++b) {

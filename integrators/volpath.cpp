@@ -6,7 +6,18 @@ namespace pl {
 
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                           PathStats& stats) const {
-    return {traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); })};
+    ChannelSample sample{traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); })};
+    // A sample is Le or 0 (or a roulette weight): a pixel's few samples are
+    // often all equal, and their spread then says nothing. There its error
+    // is the second moment pooled over the samples entering the same
+    // label (Film, ChannelSample::poolWhereFlat).
+    if (auto entry = scene_.geometry->intersect(ray); entry && dot(ray.d, entry->ng) < 0) {
+        const Point3f inside = entry->p - entry->ng * scene_.geometry->rayEpsilon_mm();
+        sample.poolKey = entryPoolKey(channel, medium.labelAt(scene_.medium->voxelAt(inside)));
+        sample.residual = sample.value;
+        sample.poolWhereFlat = true;
+    }
+    return sample;
 }
 
 RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
