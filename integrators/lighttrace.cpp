@@ -54,13 +54,15 @@ float lineDepthFor_mm(const Scene& scene, const RGB& leastSigmaT) {
 }  // namespace
 
 LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
-                       Majorants majorants, uint64_t seed)
+                       PrintPtOptions printpt, Majorants majorants, uint64_t seed,
+                       std::shared_ptr<HalfSpaceMeans> controlMeans)
     : scene_(scene),
       sensor_(surfaceVoxelSensorOf(sensor)),
       patches_(*sensor_.patches()),
       options_(options),
       volpathOptions_(volpath),
       volpath_(scene, volpath),
+      printpt_(scene, printpt, seed, std::move(controlMeans)),
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
       leastSigmaT_(leastSigmaTOf(scene)) {
@@ -88,7 +90,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
 
 ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                                      PathStats& stats) const {
-    if (!lightServes_[pixel]) return volpath_.Li(ray, channel, medium, rng, stats);
+    if (!lightServes_[pixel]) return printpt_.Li(ray, channel, medium, rng, stats);
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     stats.paths += 1;

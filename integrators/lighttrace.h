@@ -23,6 +23,7 @@
 
 #include "core/prism_index.h"
 #include "core/sensors.h"
+#include "integrators/printpt.h"
 #include "integrators/volpath.h"
 
 namespace pl {
@@ -36,21 +37,25 @@ class LightTrace : public Integrator {
 public:
     // The sensor must be the surface-voxel sensor with the patch footprint
     // (std::invalid_argument otherwise).
+    // printpt: the camera estimator of the pixels the light side leaves
+    // out (controlMeans as for PrintPt).
     LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
-               Majorants majorants, uint64_t seed);
+               PrintPtOptions printpt, Majorants majorants, uint64_t seed,
+               std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
-    // Without the light side: volpath's estimate.
+    // Without the light side: printpt's estimate.
     ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const override {
-        return volpath_.Li(ray, channel, medium, rng, stats);
+        return printpt_.Li(ray, channel, medium, rng, stats);
     }
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
               PathStats& stats) const override {
-        return volpath_.LiRGB(ray, sampling, hero, medium, rng, stats);
+        return printpt_.LiRGB(ray, sampling, hero, medium, rng, stats);
     }
+    void prepare(const Sensor& sensor, const std::vector<int>& channels) override { printpt_.prepare(sensor, channels); }
     bool scoresLightPaths() const override { return true; }
     void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
     // The reflection and the unscattered light of the line's first segment
-    // where the light side scores; volpath's whole estimate on patches
+    // where the light side scores; printpt's whole estimate on patches
     // too small for it.
     ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                              PathStats& stats) const override;
@@ -79,7 +84,8 @@ private:
     const SurfacePatches& patches_;
     LightTraceOptions options_;
     VolPathOptions volpathOptions_;
-    VolPath volpath_;
+    VolPath volpath_;  // beyond the far end of a line's first segment
+    PrintPt printpt_;
     Majorants majorants_;
     uint64_t lightSeed_;
     RGB leastSigmaT_;  // per channel, of the labels the grid holds

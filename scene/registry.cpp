@@ -27,7 +27,7 @@ const std::vector<IntegratorKind>& integratorKinds() {
             std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
              return std::make_unique<PrintPt>(scene, s.printpt, s.seed, std::move(controlMeans));
          }},
-        {"lighttrace", [](const RenderSettings&) { return SceneNeeds{false, true}; },
+        {"lighttrace", [](const RenderSettings& s) { return SceneNeeds{s.printpt.nee, true}; },
          [](const RenderSettings& s) {
              return s.volpath.reentry
                         ? std::string("lighttrace does not trace re-entry; the scene asks for \"reentry\": true")
@@ -36,8 +36,9 @@ const std::vector<IntegratorKind>& integratorKinds() {
          // Particles walk one channel: separate passes.
          [](const RenderSettings&) { return false; },
          [](const Scene& scene, const Sensor& sensor, const RenderSettings& s,
-            std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
-             return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.majorants, s.seed);
+            std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
+             return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed,
+                                                 std::move(controlMeans));
          }},
     };
     return kinds;

@@ -167,7 +167,7 @@ TEST(LightTrace, AgreesWithVolpathOnACurvedHalftone) {
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     s.integrator = "lighttrace";
-    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.majorants, s.seed);
+    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
     EXPECT_GT(probe.cameraOnlyPixels(), 0u);
     EXPECT_LT(probe.cameraOnlyPixels(), sensor.pixelCount() / 4);
     expectAgreementWithVolpath(scene, "ball");
