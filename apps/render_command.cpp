@@ -126,8 +126,11 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "printlight: warning: %s paths were trapped (over %lld boundary events without scattering)\n",
                      withThousands(result.stats.trapped).c_str(), (long long)kMaxBoundaryBounces);
     if (result.stats.leaks)
-        std::fprintf(stderr, "printlight: warning: %s rays escaped through the mesh (numerical leaks)\n",
-                     withThousands(result.stats.leaks).c_str());
+        std::fprintf(stderr,
+                     "printlight: warning: %s of %s paths (%.1e) escaped through the mesh (numerical leaks: a "
+                     "collision within round-off of an edge; docs/reliability.md)\n",
+                     withThousands(result.stats.leaks).c_str(), withThousands(result.stats.paths).c_str(),
+                     double(result.stats.leaks) / double(std::max<uint64_t>(result.stats.paths, 1)));
 
     // Summary: wall time, samples, paths per second, scattering events per second.
     uint64_t samples = uint64_t(sensor->pixelCount()) * desc.render.spp * desc.render.channels.size();
