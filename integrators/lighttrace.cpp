@@ -79,18 +79,35 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         areaCdf_mm2_.push_back(meshArea_mm2_);
     }
     const Vec3f v = scene.medium->frame().voxelSize_mm;
-    lightServes_.resize(sensor_.pixelCount());
+    for (auto& serves : lightServes_) serves.resize(sensor_.pixelCount());
     for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
         const Vec3f n = sensor_.pixels()[p].normal;
         const double crossSection_mm2 = std::abs(n.x) * v.y * v.z + std::abs(n.y) * v.x * v.z + std::abs(n.z) * v.x * v.y;
-        lightServes_[p] = patches_.area_mm2(p) >= kMinPatchFraction * crossSection_mm2;
-        cameraOnlyPixels_ += !lightServes_[p];
+        const bool sliver = patches_.area_mm2(p) < kMinPatchFraction * crossSection_mm2;
+        for (auto& serves : lightServes_) serves[p] = !sliver;
     }
+}
+
+void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels) {
+    printpt_.prepare(sensor, channels);
+    // A pixel's centre ray stands for its entries (tiles of pixels, each
+    // decided by one thread; a pixel's decision depends on it alone).
+    for (int c : channels)
+        parallelForTiles(sensor_.pixelCount(), 256, [&](size_t begin, size_t end) {
+            LabelMedium::Sampler medium(*scene_.medium, majorants_);
+            for (size_t p = begin; p < end; ++p)
+                if (lightServes_[c][p] && printpt_.controlsEntry(sensor_.generateRay(p, 0.5f, 0.5f), c, medium))
+                    lightServes_[c][p] = false;
+        });
+}
+
+size_t LightTrace::cameraOnlyPixels(int channel) const {
+    return size_t(std::count(lightServes_[channel].begin(), lightServes_[channel].end(), false));
 }
 
 ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                                      PathStats& stats) const {
-    if (!lightServes_[pixel]) return printpt_.Li(ray, channel, medium, rng, stats);
+    if (!lightServes_[channel][pixel]) return printpt_.Li(ray, channel, medium, rng, stats);
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     stats.paths += 1;
@@ -229,7 +246,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             auto hit = geometry.intersect(toSurface, line.s_mm + lift);
             if (!hit || hit->t < line.s_mm - lift) return;
             auto pixel = patches_.pixelAt(line.prim, line.x_mm);
-            if (!pixel || !lightServes_[*pixel]) return;
+            if (!pixel || !lightServes_[channel][*pixel]) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
             perPixel[*pixel] += weight * double(p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
         });

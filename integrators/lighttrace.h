@@ -17,6 +17,7 @@
 // channel passes only.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -51,12 +52,15 @@ public:
               PathStats& stats) const override {
         return printpt_.LiRGB(ray, sampling, hero, medium, rng, stats);
     }
-    void prepare(const Sensor& sensor, const std::vector<int>& channels) override { printpt_.prepare(sensor, channels); }
+    // printpt's census, then which pixels it serves better: those whose
+    // walks run with a control.
+    void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
     bool scoresLightPaths() const override { return true; }
     void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
     // The reflection and the unscattered light of the line's first segment
-    // where the light side scores; printpt's whole estimate on patches
-    // too small for it.
+    // where the light side scores; elsewhere printpt's whole estimate
+    // (patches too small for the light side, and entries where printpt's
+    // walks run with a control, which is nearly exact there).
     ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                              PathStats& stats) const override;
     // Pixels whose patch is at least this fraction of the voxel's cross
@@ -64,7 +68,8 @@ public:
     // the cut gave to a voxel) would take 1 / area of every score that
     // lands under them, rare and large.
     static constexpr float kMinPatchFraction = 0.25f;
-    size_t cameraOnlyPixels() const { return cameraOnlyPixels_; }
+    // Pixels the light side leaves to printpt, in a channel.
+    size_t cameraOnlyPixels(int channel) const;
 
     // How deep the inward normal lines reach into the object: where the
     // least extinction of the labels in the grid leaves less than 1e-6 of
@@ -95,9 +100,8 @@ private:
     std::vector<std::unique_ptr<PrismIndex>> prismLevels_;
     // Triangles by area, for entry points uniform over the mesh.
     std::vector<double> areaCdf_mm2_;
-    // Per pixel: whether the light side scores into it.
-    std::vector<bool> lightServes_;
-    size_t cameraOnlyPixels_ = 0;
+    // Per channel and pixel: whether the light side scores into it.
+    std::array<std::vector<bool>, 3> lightServes_;
     double meshArea_mm2_ = 0;
 };
 

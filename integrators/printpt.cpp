@@ -122,6 +122,14 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
 
 void PrintPt::prepare(const Sensor& sensor, const std::vector<int>& channels) { control_.survey(sensor, channels); }
 
+bool PrintPt::controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Sampler& medium) const {
+    if (!options_.controlVariate) return false;
+    auto entry = scene_.geometry->intersect(cameraRay);
+    if (!entry) return false;
+    const SingleChannelPath path{&scene_.medium->lut(channel), channel, scene_.environment[channel]};
+    return control_.forEntry(enteringRay(scene_, cameraRay, *entry), path, medium).has_value();
+}
+
 template <class Path>
 PrintPt::WalkFunction<Path> PrintPt::selectWalk() const {
     const bool m = options_.mediumFirst, f = options_.fresnelWeighting;

@@ -64,6 +64,9 @@ public:
               PathStats& stats) const override;
     // The control variate's census of the sensor's survey (controlMeanWalksPerEntry).
     void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
+    // Whether walks entering along this camera ray in this channel run
+    // with a control (after prepare: the census decides some).
+    bool controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Sampler& medium) const;
 
 private:
     // A sample's radiance and, with a control, the standard error it shares

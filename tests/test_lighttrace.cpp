@@ -62,13 +62,17 @@ struct BlockwiseRender {
     RenderResult result;
     test::Estimate objectMean;
 };
-BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed) {
+// printptControls: whether printpt takes the pixels whose walks would run
+// with its control (false: the light side scores into every pixel but
+// slivers).
+BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed, bool printptControls) {
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     s.integrator = "lighttrace";
     s.seed = seed;
     s.lighttrace.particlesPerPixel = 4;
+    s.printpt.controlVariate = printptControls;
     const auto integrator = makeIntegrator(scene, sensor, s);
     BlockwiseRender b{RenderResult{Film(sensor.pixelCount()), {}, 0}, {}};
     const double n = double(sensor.pixelCount());
@@ -93,8 +97,8 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     return b;
 }
 
-void expectAgreementWithVolpath(const Scene& scene, const std::string& what) {
-    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1);
+void expectAgreementWithVolpath(const Scene& scene, const std::string& what, bool printptControls) {
+    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1, printptControls);
     const RenderResult& light = blocks.result;
     // Enough volpath samples that a black voxel's reflection (F = 0.04)
     // is surely met: a pixel whose samples are all equal reports no error.
@@ -115,7 +119,7 @@ TEST(LightTrace, WhiteFurnaceIsTheEnvironment) {
     MaterialTable t = test::tableOf({{4, material({20, 30, 10}, {1, 1, 1}, {0.4f, 0.0f, -0.3f})}});
     const Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, 1.5f,
                                        {1.0f, 0.5f, 2.0f});
-    const BlockwiseRender b = renderLightBlocks(scene, 16, 1);
+    const BlockwiseRender b = renderLightBlocks(scene, 16, 1, true);
     size_t beyond = 0, values = 0;
     for (size_t p = 0; p < b.result.film.pixelCount(); ++p)
         for (int c = 0; c < 3; ++c) {
@@ -127,12 +131,28 @@ TEST(LightTrace, WhiteFurnaceIsTheEnvironment) {
     EXPECT_LT(beyond, values / 100 + 2);
 }
 
+// One scattering material, the light side in every pixel. Then a denser
+// one with printpt's control: printpt takes the pixels whose walks run
+// with a half-space control (the faces away from the edges), the light
+// side the rest.
 TEST(LightTrace, AgreesWithVolpathOnOneMaterial) {
     MaterialTable t = test::tableOf({{4, material({20, 30, 10}, {0.95f, 0.9f, 0.99f}, {0.4f, 0.0f, 0.6f})}});
     for (float ior : {1.0f, 1.5f})
         expectAgreementWithVolpath(
             test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, ior),
-            "ior " + std::to_string(ior));
+            "ior " + std::to_string(ior), false);
+    MaterialTable dense = test::tableOf({{4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
+    const Scene box = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, dense, 1.5f);
+    SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
+                              SurfaceVoxelSensor::Footprint::Patch);
+    RenderSettings s;
+    LightTrace hybrid(box, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
+    hybrid.prepare(sensor, {0, 1, 2});
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(hybrid.cameraOnlyPixels(c), sensor.pixelCount() / 10) << c;
+        EXPECT_LT(hybrid.cameraOnlyPixels(c), sensor.pixelCount()) << c;
+    }
+    expectAgreementWithVolpath(box, "dense, printpt's controls", true);
 }
 
 TEST(LightTrace, AgreesWithVolpathOnAHalftone) {
@@ -143,7 +163,7 @@ TEST(LightTrace, AgreesWithVolpathOnAHalftone) {
         const uint64_t h = mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u);
         return Label(h % 3 == 0 ? 0 : h % 3 == 1 ? 4 : 3);
     };
-    expectAgreementWithVolpath(test::boxScene(kResolution, kVoxel_mm, halftone, t, 1.5f), "halftone");
+    expectAgreementWithVolpath(test::boxScene(kResolution, kVoxel_mm, halftone, t, 1.5f), "halftone", true);
 }
 
 // A ball (a curved mesh cut into patches, some of them slivers that the
@@ -168,9 +188,9 @@ TEST(LightTrace, AgreesWithVolpathOnACurvedHalftone) {
     RenderSettings s;
     s.integrator = "lighttrace";
     const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
-    EXPECT_GT(probe.cameraOnlyPixels(), 0u);
-    EXPECT_LT(probe.cameraOnlyPixels(), sensor.pixelCount() / 4);
-    expectAgreementWithVolpath(scene, "ball");
+    EXPECT_GT(probe.cameraOnlyPixels(0), 0u);
+    EXPECT_LT(probe.cameraOnlyPixels(0), sensor.pixelCount() / 4);
+    expectAgreementWithVolpath(scene, "ball", true);
 }
 
 // The deterministic discrete-ordinates solve of a slab (media/slab_transport.h)
@@ -195,6 +215,7 @@ TEST(LightTrace, SlabAgainstTheDeterministicSolver) {
     s.integrator = "lighttrace";
     s.spp = 16;
     s.lighttrace.particlesPerPixel = 300;
+    s.printpt.controlVariate = false;  // the light side everywhere
     const RenderResult r = render(scene, sensor, s);
     const double specular = std::pow((kIor - 1.0) / (kIor + 1.0), 2);
     for (int c = 0; c < 3; ++c) {
