@@ -84,12 +84,15 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         const Vec3f n = sensor_.pixels()[p].normal;
         const double crossSection_mm2 = std::abs(n.x) * v.y * v.z + std::abs(n.y) * v.x * v.z + std::abs(n.z) * v.x * v.y;
         const bool sliver = patches_.area_mm2(p) < kMinPatchFraction * crossSection_mm2;
-        for (auto& serves : lightServes_) serves[p] = !sliver;
+        const bool oneResin =
+            scene.medium->majorants().solidLabelAt(sensor_.pixels()[p].voxel) != MajorantGrid::kSeveralLabels;
+        for (auto& serves : lightServes_) serves[p] = !sliver && !(options.hybrid && oneResin);
     }
 }
 
 void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels) {
     printpt_.prepare(sensor, channels);
+    if (!options_.hybrid) return;
     // A pixel's centre ray stands for its entries (tiles of pixels, each
     // decided by one thread; a pixel's decision depends on it alone).
     for (int c : channels)

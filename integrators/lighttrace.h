@@ -32,6 +32,11 @@ namespace pl {
 struct LightTraceOptions {
     // Particles per block (per sample) for each sensor pixel.
     float particlesPerPixel = 1.0f;
+    // printpt takes the pixels it serves better: over one resin (the
+    // pixel's 8^3 brick holds one label besides void: its ball walks are
+    // cheap there) or where its walks run with a control. False: the light
+    // side scores into every pixel but slivers.
+    bool hybrid = true;
 };
 
 class LightTrace : public Integrator {
@@ -52,8 +57,8 @@ public:
               PathStats& stats) const override {
         return printpt_.LiRGB(ray, sampling, hero, medium, rng, stats);
     }
-    // printpt's census, then which pixels it serves better: those whose
-    // walks run with a control.
+    // printpt's census, then (hybrid) the pixels whose walks run with a
+    // control go to printpt.
     void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
     bool scoresLightPaths() const override { return true; }
     void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;

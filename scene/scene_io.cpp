@@ -118,7 +118,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
-                                         "reentry", "majorants", "particles_per_pixel"};
+                                         "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid"};
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -145,6 +145,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
             float(json.number(ren, "particles_per_pixel", "render", r.lighttrace.particlesPerPixel));
         if (!(r.lighttrace.particlesPerPixel > 0.0f && r.lighttrace.particlesPerPixel <= 1e6f))
             json.fail("render.particles_per_pixel", "must be in (0, 1e6]");
+        r.lighttrace.hybrid = json.boolean(ren, "lighttrace_hybrid", "render", r.lighttrace.hybrid);
         for (const PrintPtParameter& p : printPtParameters()) {
             if (!ren.contains(p.name)) continue;
             using Kind = PrintPtParameter::Kind;

@@ -62,17 +62,17 @@ struct BlockwiseRender {
     RenderResult result;
     test::Estimate objectMean;
 };
-// printptControls: whether printpt takes the pixels whose walks would run
-// with its control (false: the light side scores into every pixel but
-// slivers).
-BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed, bool printptControls) {
+// hybrid: whether printpt takes the pixels it serves better
+// (LightTraceOptions::hybrid; false: the light side scores into every
+// pixel but slivers).
+BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed, bool hybrid) {
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     s.integrator = "lighttrace";
     s.seed = seed;
     s.lighttrace.particlesPerPixel = 4;
-    s.printpt.controlVariate = printptControls;
+    s.lighttrace.hybrid = hybrid;
     const auto integrator = makeIntegrator(scene, sensor, s);
     BlockwiseRender b{RenderResult{Film(sensor.pixelCount()), {}, 0}, {}};
     const double n = double(sensor.pixelCount());
@@ -97,8 +97,8 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     return b;
 }
 
-void expectAgreementWithVolpath(const Scene& scene, const std::string& what, bool printptControls) {
-    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1, printptControls);
+void expectAgreementWithVolpath(const Scene& scene, const std::string& what, bool hybrid) {
+    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1, hybrid);
     const RenderResult& light = blocks.result;
     // Enough volpath samples that a black voxel's reflection (F = 0.04)
     // is surely met: a pixel whose samples are all equal reports no error.
@@ -119,7 +119,7 @@ TEST(LightTrace, WhiteFurnaceIsTheEnvironment) {
     MaterialTable t = test::tableOf({{4, material({20, 30, 10}, {1, 1, 1}, {0.4f, 0.0f, -0.3f})}});
     const Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, 1.5f,
                                        {1.0f, 0.5f, 2.0f});
-    const BlockwiseRender b = renderLightBlocks(scene, 16, 1, true);
+    const BlockwiseRender b = renderLightBlocks(scene, 16, 1, false);
     size_t beyond = 0, values = 0;
     for (size_t p = 0; p < b.result.film.pixelCount(); ++p)
         for (int c = 0; c < 3; ++c) {
@@ -131,28 +131,36 @@ TEST(LightTrace, WhiteFurnaceIsTheEnvironment) {
     EXPECT_LT(beyond, values / 100 + 2);
 }
 
-// One scattering material, the light side in every pixel. Then a denser
-// one with printpt's control: printpt takes the pixels whose walks run
-// with a half-space control (the faces away from the edges), the light
-// side the rest.
+// One scattering material, the light side in every pixel.
 TEST(LightTrace, AgreesWithVolpathOnOneMaterial) {
     MaterialTable t = test::tableOf({{4, material({20, 30, 10}, {0.95f, 0.9f, 0.99f}, {0.4f, 0.0f, 0.6f})}});
     for (float ior : {1.0f, 1.5f})
         expectAgreementWithVolpath(
             test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, ior),
             "ior " + std::to_string(ior), false);
-    MaterialTable dense = test::tableOf({{4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
-    const Scene box = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, dense, 1.5f);
+}
+
+// The hybrid: printpt takes the pixels over one resin (the first 8^3
+// bricks along x, white) and the light side those over the halftone
+// (x >= 8); together they agree with volpath.
+TEST(LightTrace, HybridAgreesWithVolpath) {
+    MaterialTable t = test::tableOf({{0, material({200, 200, 200}, {0.2f, 0.9f, 0.95f}, {0.3f, 0.3f, 0.3f})},
+                                     {4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
+    auto labels = [](const Vec3i& v) {
+        if (v.x < 8) return Label(4);
+        return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 2 ? 4 : 0);
+    };
+    const Scene box = test::boxScene(kResolution, kVoxel_mm, labels, t, 1.5f);
     SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
                               SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     LightTrace hybrid(box, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
     hybrid.prepare(sensor, {0, 1, 2});
     for (int c = 0; c < 3; ++c) {
-        EXPECT_GT(hybrid.cameraOnlyPixels(c), sensor.pixelCount() / 10) << c;
-        EXPECT_LT(hybrid.cameraOnlyPixels(c), sensor.pixelCount()) << c;
+        EXPECT_GT(hybrid.cameraOnlyPixels(c), sensor.pixelCount() / 4) << c;
+        EXPECT_LT(hybrid.cameraOnlyPixels(c), 3 * sensor.pixelCount() / 4) << c;
     }
-    expectAgreementWithVolpath(box, "dense, printpt's controls", true);
+    expectAgreementWithVolpath(box, "hybrid", true);
 }
 
 TEST(LightTrace, AgreesWithVolpathOnAHalftone) {
@@ -215,7 +223,7 @@ TEST(LightTrace, SlabAgainstTheDeterministicSolver) {
     s.integrator = "lighttrace";
     s.spp = 16;
     s.lighttrace.particlesPerPixel = 300;
-    s.printpt.controlVariate = false;  // the light side everywhere
+    s.lighttrace.hybrid = false;  // the light side everywhere
     const RenderResult r = render(scene, sensor, s);
     const double specular = std::pow((kIor - 1.0) / (kIor + 1.0), 2);
     for (int c = 0; c < 3; ++c) {
