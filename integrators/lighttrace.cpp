@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <unordered_set>
 
 #include "runtime/interrupt.h"
 #include "runtime/scheduler.h"
@@ -18,6 +19,10 @@ constexpr size_t kBlockParts = 16;
 // Below this optical depth the transmittance to the surface is estimated
 // exactly; beyond it Russian roulette ends most connections early.
 constexpr float kConnectionRouletteDepth = 2.0f;
+// Particles per patch, relative to particles_per_pixel, far from every
+// pixel the light side scores into (no brick of theirs or next to theirs
+// holds one); weighted back, so the estimate stays unbiased.
+constexpr float kFarEmissionRate = 0.125f;
 // The relative light left at the inward normal lines' depth.
 constexpr float kLineDepthOpticalDepth = 13.8f;  // e^-13.8 ~ 1e-6
 
@@ -88,6 +93,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
             scene.medium->majorants().solidLabelAt(sensor_.pixels()[p].voxel) != MajorantGrid::kSeveralLabels;
         for (auto& serves : lightServes_) serves[p] = !sliver && !(options.hybrid && oneResin);
     }
+    decideEmissionRates();
 }
 
 void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels) {
@@ -102,6 +108,33 @@ void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels)
                 if (lightServes_[c][p] && printpt_.controlsEntry(sensor_.generateRay(p, 0.5f, 0.5f), c, medium))
                     lightServes_[c][p] = false;
         });
+    decideEmissionRates();
+}
+
+void LightTrace::decideEmissionRates() {
+    // Bricks (8^3 voxels) holding a pixel the light side scores into, per
+    // channel; a patch whose brick or a neighbour of it holds one gets the
+    // full rate.
+    auto brickKey = [](const Vec3i& v) {
+        return (uint64_t(uint32_t((v.x >> 3) + 0x100000)) << 42) | (uint64_t(uint32_t((v.y >> 3) + 0x100000)) << 21) |
+               uint64_t(uint32_t((v.z >> 3) + 0x100000));
+    };
+    for (int c = 0; c < 3; ++c) {
+        std::unordered_set<uint64_t> lit;
+        for (size_t p = 0; p < sensor_.pixelCount(); ++p)
+            if (lightServes_[c][p]) lit.insert(brickKey(sensor_.pixels()[p].voxel));
+        emissionRate_[c].assign(sensor_.pixelCount(), kFarEmissionRate);
+        for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
+            const Vec3i v = sensor_.pixels()[p].voxel;
+            for (int dz = -8; dz <= 8 && emissionRate_[c][p] < 1.0f; dz += 8)
+                for (int dy = -8; dy <= 8 && emissionRate_[c][p] < 1.0f; dy += 8)
+                    for (int dx = -8; dx <= 8; dx += 8)
+                        if (lit.count(brickKey({v.x + dx, v.y + dy, v.z + dz}))) {
+                            emissionRate_[c][p] = 1.0f;
+                            break;
+                        }
+        }
+    }
 }
 
 size_t LightTrace::cameraOnlyPixels(int channel) const {
@@ -143,7 +176,8 @@ ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMe
 
 void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const {
     const double Le = scene_.environment[channel];
-    if (!(Le > 0.0)) return;
+    // Nothing to score into: no particles.
+    if (!(Le > 0.0) || cameraOnlyPixels(channel) == sensor_.pixelCount()) return;
     const double perPixelCount = options_.particlesPerPixel;
     // Entry points are stratified by patch where the patches tile the mesh:
     // every patch receives its share of each block's particles (whole
@@ -169,9 +203,10 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
                                   partStats[part]);
                     continue;
                 }
-                const double whole = std::floor(perPixelCount);
-                const int count = int(whole) + (rng.uniform() < perPixelCount - whole ? 1 : 0);
-                const double weight = Le * kPi * patches_.area_mm2(i) / perPixelCount;
+                const double expected = perPixelCount * emissionRate_[channel][i];
+                const double whole = std::floor(expected);
+                const int count = int(whole) + (rng.uniform() < expected - whole ? 1 : 0);
+                const double weight = Le * kPi * patches_.area_mm2(i) / expected;
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
                     const auto x = patches_.sample(i, u0, u1);

@@ -107,6 +107,11 @@ private:
     std::vector<double> areaCdf_mm2_;
     // Per channel and pixel: whether the light side scores into it.
     std::array<std::vector<bool>, 3> lightServes_;
+    // Per channel and pixel: its patch's particles per block, relative to
+    // particles_per_pixel (stratified entries): 1 near the pixels the light
+    // side scores into, less far from them.
+    std::array<std::vector<float>, 3> emissionRate_;
+    void decideEmissionRates();
     double meshArea_mm2_ = 0;
 };
 
