@@ -20,7 +20,8 @@ namespace pl {
 //    means, the round-off of an exact one);
 //  - poolKey, residual: a sample whose randomness is concentrated in rare
 //    events (printpt's control-variate residual f - g, zero until the two
-//    walks part) names the kind it belongs to (>= 0) and its random part;
+//    walks part; or what an uncontrolled walk brought, mostly 0 in dark
+//    resin) names the kind it belongs to (>= 0) and its random part;
 //    the second moment of the residuals is pooled over every sample of
 //    that kind in the render, since a pixel's own few samples may not have
 //    met one of the events.
@@ -98,8 +99,15 @@ public:
     // pixel's samples missed the rare events), or, for samples pooled
     // where flat, the spread unless the samples are all equal.
     float independentError(size_t pixel, int channel) const {
+        const Accumulator& a = acc_[pixel][channel];
         const float spread = spreadError(pixel, channel);
-        if (acc_[pixel][channel].poolWhereFlat) return spread > 0.0f ? spread : pooledError(pixel, channel);
+        if (a.poolWhereFlat) {
+            // Flat: the random parts were all equal (the values may still
+            // differ by deterministic parts, as F Le with shading normals).
+            const double n = a.pooledSamples;
+            const bool flat = n < 2 || a.residualSqSum - a.residualSum * a.residualSum / n <= 1e-12 * a.residualSqSum;
+            return flat ? pooledError(pixel, channel) : spread;
+        }
         return std::max(spread, pooledError(pixel, channel));
     }
     // The part of the mean's error that its samples share with others (a

@@ -22,7 +22,7 @@ constexpr float kConnectionRouletteDepth = 2.0f;
 // Particles per patch, relative to particles_per_pixel, far from every
 // pixel the light side scores into (no brick of theirs or next to theirs
 // holds one); weighted back, so the estimate stays unbiased.
-constexpr float kFarEmissionRate = 0.125f;
+constexpr float kFarEmissionShare = 0.125f;
 // The relative light left at the inward normal lines' depth.
 constexpr float kLineDepthOpticalDepth = 13.8f;  // e^-13.8 ~ 1e-6
 
@@ -91,9 +91,9 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         const bool sliver = patches_.area_mm2(p) < kMinPatchFraction * crossSection_mm2;
         const bool oneResin =
             scene.medium->majorants().solidLabelAt(sensor_.pixels()[p].voxel) != MajorantGrid::kSeveralLabels;
-        for (auto& serves : lightServes_) serves[p] = !sliver && !(options.hybrid && oneResin);
+        for (auto& serves : lightServes_) serves[p] = !sliver && !(options.hybrid && oneResin) ? 1 : 0;
     }
-    decideEmissionRates();
+    decideEmissionShares();
 }
 
 void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels) {
@@ -106,12 +106,12 @@ void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels)
             LabelMedium::Sampler medium(*scene_.medium, majorants_);
             for (size_t p = begin; p < end; ++p)
                 if (lightServes_[c][p] && printpt_.controlsEntry(sensor_.generateRay(p, 0.5f, 0.5f), c, medium))
-                    lightServes_[c][p] = false;
+                    lightServes_[c][p] = 0;
         });
-    decideEmissionRates();
+    decideEmissionShares();
 }
 
-void LightTrace::decideEmissionRates() {
+void LightTrace::decideEmissionShares() {
     // Bricks (8^3 voxels) holding a pixel the light side scores into, per
     // channel; a patch whose brick or a neighbour of it holds one gets the
     // full rate.
@@ -123,14 +123,14 @@ void LightTrace::decideEmissionRates() {
         std::unordered_set<uint64_t> lit;
         for (size_t p = 0; p < sensor_.pixelCount(); ++p)
             if (lightServes_[c][p]) lit.insert(brickKey(sensor_.pixels()[p].voxel));
-        emissionRate_[c].assign(sensor_.pixelCount(), kFarEmissionRate);
+        emissionShare_[c].assign(sensor_.pixelCount(), kFarEmissionShare);
         for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
             const Vec3i v = sensor_.pixels()[p].voxel;
-            for (int dz = -8; dz <= 8 && emissionRate_[c][p] < 1.0f; dz += 8)
-                for (int dy = -8; dy <= 8 && emissionRate_[c][p] < 1.0f; dy += 8)
+            for (int dz = -8; dz <= 8 && emissionShare_[c][p] < 1.0f; dz += 8)
+                for (int dy = -8; dy <= 8 && emissionShare_[c][p] < 1.0f; dy += 8)
                     for (int dx = -8; dx <= 8; dx += 8)
                         if (lit.count(brickKey({v.x + dx, v.y + dy, v.z + dz}))) {
-                            emissionRate_[c][p] = 1.0f;
+                            emissionShare_[c][p] = 1.0f;
                             break;
                         }
         }
@@ -138,7 +138,7 @@ void LightTrace::decideEmissionRates() {
 }
 
 size_t LightTrace::cameraOnlyPixels(int channel) const {
-    return size_t(std::count(lightServes_[channel].begin(), lightServes_[channel].end(), false));
+    return size_t(std::count(lightServes_[channel].begin(), lightServes_[channel].end(), uint8_t(0)));
 }
 
 ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
@@ -178,7 +178,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
     const double Le = scene_.environment[channel];
     // Nothing to score into: no particles.
     if (!(Le > 0.0) || cameraOnlyPixels(channel) == sensor_.pixelCount()) return;
-    const double perPixelCount = options_.particlesPerPixel;
+    const double particlesPerPixel = options_.particlesPerPixel;
     // Entry points are stratified by patch where the patches tile the mesh:
     // every patch receives its share of each block's particles (whole
     // particles, the fraction by a coin), so the number entering near a
@@ -186,8 +186,9 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
     // sends into its patch, Le pi A, over the expected count. Elsewhere
     // they enter uniformly over the mesh.
     const bool stratified = patches_.unassignedArea_mm2() == 0.0;
+    // What the block's parts share out: pixels (stratified) or particles.
     const uint64_t units = stratified ? sensor_.pixelCount()
-                                      : std::max<uint64_t>(1, uint64_t(std::llround(perPixelCount * double(sensor_.pixelCount()))));
+                                      : std::max<uint64_t>(1, uint64_t(std::llround(particlesPerPixel * double(sensor_.pixelCount()))));
     std::vector<std::vector<double>> tallies(kBlockParts);
     std::vector<PathStats> partStats(kBlockParts);
     parallelForTiles(kBlockParts, 1, [&](size_t begin, size_t end) {
@@ -203,13 +204,13 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
                                   partStats[part]);
                     continue;
                 }
-                const double expected = perPixelCount * emissionRate_[channel][i];
+                const double expected = particlesPerPixel * emissionShare_[channel][i];
                 const double whole = std::floor(expected);
                 const int count = int(whole) + (rng.uniform() < expected - whole ? 1 : 0);
                 const double weight = Le * kPi * patches_.area_mm2(i) / expected;
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
-                    const auto x = patches_.sample(i, u0, u1);
+                    const auto x = patches_.sample(i, u0, u1);  // never empty: the constructor refuses empty patches
                     traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tallies[part],
                                   partStats[part]);
                 }
@@ -247,7 +248,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
     // Light leaving along the normal: transmitted out, and radiance / n^2
     // (the path tracers' unit inside).
     const float exitFactor = (1.0f - fresnelDielectric(1.0f, scene_.ior)) / (scene_.ior * scene_.ior);
-    const float lift = geometry.rayEpsilon_mm();
+    const float visibilityTolerance_mm = geometry.rayEpsilon_mm();
     const float leastSigmaT = leastSigmaT_[channel];
     // The transmittance to a surface point s_mm away is at most
     // exp(-leastSigmaT s): connections are played by Russian roulette on
@@ -281,8 +282,8 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
                                                  TransmittanceRoulette{kConnectionRouletteDepth, &rng, logScale});
             if (T <= 0.0f) return;
             // The line's first segment: nothing between y and the patch.
-            auto hit = geometry.intersect(toSurface, line.s_mm + lift);
-            if (!hit || hit->t < line.s_mm - lift) return;
+            auto hit = geometry.intersect(toSurface, line.s_mm + visibilityTolerance_mm);
+            if (!hit || hit->t < line.s_mm - visibilityTolerance_mm) return;
             auto pixel = patches_.pixelAt(line.prim, line.x_mm);
             if (!pixel || !lightServes_[channel][*pixel]) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);

@@ -82,6 +82,8 @@ public:
     float lineDepth_mm() const { return prismLevels_.back()->depth_mm(); }
 
 private:
+    // Sets emissionShare_ from lightServes_.
+    void decideEmissionShares();
     // A point uniform by area over the mesh.
     SurfaceHit entryOnMesh(Rng& rng) const;
     // One particle's walk from the environment through `entry`, scoring
@@ -105,13 +107,13 @@ private:
     std::vector<std::unique_ptr<PrismIndex>> prismLevels_;
     // Triangles by area, for entry points uniform over the mesh.
     std::vector<double> areaCdf_mm2_;
-    // Per channel and pixel: whether the light side scores into it.
-    std::array<std::vector<bool>, 3> lightServes_;
-    // Per channel and pixel: its patch's particles per block, relative to
-    // particles_per_pixel (stratified entries): 1 near the pixels the light
-    // side scores into, less far from them.
-    std::array<std::vector<float>, 3> emissionRate_;
-    void decideEmissionRates();
+    // Per channel and pixel: whether the light side scores into it (bytes:
+    // prepare writes them from several threads).
+    std::array<std::vector<uint8_t>, 3> lightServes_;
+    // Per channel and pixel: its patch's share of particlesPerPixel per
+    // block (stratified entries): 1 near the pixels the light side scores
+    // into, less far from them.
+    std::array<std::vector<float>, 3> emissionShare_;
     double meshArea_mm2_ = 0;
 };
 
