@@ -49,6 +49,9 @@ RGB leastSigmaTOf(const Scene& scene) {
     return least;
 }
 
+// How deep the inward normal lines reach into the object: where the least
+// extinction of the labels in the grid leaves less than 1e-6 of the light
+// (at most the object's diagonal).
 float lineDepthFor_mm(const Scene& scene, const RGB& leastSigmaT) {
     const Bounds3f b = scene.geometry->bounds();
     const float diagonal_mm = length(b.hi - b.lo);
@@ -112,24 +115,24 @@ void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels)
 }
 
 void LightTrace::decideEmissionShares() {
-    // Bricks (8^3 voxels) holding a pixel the light side scores into, per
+    // Majorant bricks holding a pixel the light side scores into, per
     // channel; a patch whose brick or a neighbour of it holds one gets the
-    // full rate.
-    auto brickKey = [](const Vec3i& v) {
-        return (uint64_t(uint32_t((v.x >> 3) + 0x100000)) << 42) | (uint64_t(uint32_t((v.y >> 3) + 0x100000)) << 21) |
-               uint64_t(uint32_t((v.z >> 3) + 0x100000));
+    // full share.
+    auto brickKey = [](const Vec3i& brick) {
+        return (uint64_t(uint32_t(brick.x + 0x100000)) << 42) | (uint64_t(uint32_t(brick.y + 0x100000)) << 21) |
+               uint64_t(uint32_t(brick.z + 0x100000));
     };
     for (int c = 0; c < 3; ++c) {
         std::unordered_set<uint64_t> lit;
         for (size_t p = 0; p < sensor_.pixelCount(); ++p)
-            if (lightServes_[c][p]) lit.insert(brickKey(sensor_.pixels()[p].voxel));
+            if (lightServes_[c][p]) lit.insert(brickKey(MajorantGrid::brickOf(sensor_.pixels()[p].voxel)));
         emissionShare_[c].assign(sensor_.pixelCount(), kFarEmissionShare);
         for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
-            const Vec3i v = sensor_.pixels()[p].voxel;
-            for (int dz = -8; dz <= 8 && emissionShare_[c][p] < 1.0f; dz += 8)
-                for (int dy = -8; dy <= 8 && emissionShare_[c][p] < 1.0f; dy += 8)
-                    for (int dx = -8; dx <= 8; dx += 8)
-                        if (lit.count(brickKey({v.x + dx, v.y + dy, v.z + dz}))) {
+            const Vec3i b = MajorantGrid::brickOf(sensor_.pixels()[p].voxel);
+            for (int dz = -1; dz <= 1 && emissionShare_[c][p] < 1.0f; ++dz)
+                for (int dy = -1; dy <= 1 && emissionShare_[c][p] < 1.0f; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx)
+                        if (lit.count(brickKey({b.x + dx, b.y + dy, b.z + dz}))) {
                             emissionShare_[c][p] = 1.0f;
                             break;
                         }

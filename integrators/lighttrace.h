@@ -76,11 +76,6 @@ public:
     // Pixels the light side leaves to printpt, in a channel.
     size_t cameraOnlyPixels(int channel) const;
 
-    // How deep the inward normal lines reach into the object: where the
-    // least extinction of the labels in the grid leaves less than 1e-6 of
-    // the light (at most the object's diagonal).
-    float lineDepth_mm() const { return prismLevels_.back()->depth_mm(); }
-
 private:
     // Sets emissionShare_ from lightServes_.
     void decideEmissionShares();
