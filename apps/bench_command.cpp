@@ -66,11 +66,19 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
-    // Light tracing (the sensor must have the patch footprint), with more
-    // particles per block.
+    // Light tracing (the sensor must have the patch footprint): scoring at
+    // collisions, along tracks at other spacings, more particles per block.
     RenderSettings light = v;
     light.integrator = "lighttrace";
     c["lighttrace"] = light;
+    RenderSettings collisions = light;
+    collisions.lighttrace.scoring = LightTraceOptions::Scoring::Collisions;
+    c["lighttrace-collisions"] = collisions;
+    for (const char* spacing : {"0.5", "2"}) {
+        RenderSettings tracks = light;
+        tracks.lighttrace.trackSpacing_mfp = std::stof(spacing);
+        c[std::string("lighttrace-tracks-") + spacing] = tracks;
+    }
     for (float particles : {4.0f, 16.0f}) {
         light.lighttrace.particlesPerPixel = particles;
         c["lighttrace-p" + std::to_string(int(particles))] = light;

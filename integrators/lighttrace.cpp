@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <unordered_set>
 
@@ -38,15 +39,34 @@ const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
     return *s;
 }
 
-// The least extinction per channel of the labels the grid holds (void aside).
-RGB leastSigmaTOf(const Scene& scene) {
+// Calls f(label) for each label the grid holds (void aside).
+template <class F>
+void forEachLabelIn(const Scene& scene, F&& f) {
     const std::array<uint64_t, 256> voxels = scene.medium->grid().histogram();
+    for (int l = 0; l < 256; ++l)
+        if (voxels[l] != 0 && l != scene.medium->grid().voidLabel()) f(Label(l));
+}
+
+// The least extinction per channel of the labels the grid holds.
+RGB leastSigmaTOf(const Scene& scene) {
     RGB least{1e30f, 1e30f, 1e30f};
-    for (int l = 0; l < 256; ++l) {
-        if (voxels[l] == 0 || l == scene.medium->grid().voidLabel()) continue;
+    forEachLabelIn(scene, [&](Label l) {
         for (int c = 0; c < 3; ++c) least[c] = std::min(least[c], scene.medium->lut(c).sigmaT_perMm[l]);
-    }
+    });
     return least;
+}
+
+// The largest scattering coefficient per channel of the labels the grid
+// holds (at least 1e-6 /mm).
+RGB mostSigmaSOf(const Scene& scene) {
+    RGB most{1e-6f, 1e-6f, 1e-6f};
+    forEachLabelIn(scene, [&](Label l) {
+        for (int c = 0; c < 3; ++c) {
+            const ChannelLut& lut = scene.medium->lut(c);
+            most[c] = std::max(most[c], lut.sigmaT_perMm[l] * lut.albedo[l]);
+        }
+    });
+    return most;
 }
 
 // How deep the inward normal lines reach into the object: where the least
@@ -87,6 +107,8 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         areaCdf_mm2_.push_back(meshArea_mm2_);
     }
     const Vec3f v = scene.medium->frame().voxelSize_mm;
+    const RGB mostSigmaS = mostSigmaSOf(scene);
+    for (int c = 0; c < 3; ++c) trackSpacing_mm_[c] = options.trackSpacing_mfp / mostSigmaS[c];
     for (auto& serves : lightServes_) serves.resize(sensor_.pixelCount());
     for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
         const Vec3f n = sensor_.pixels()[p].normal;
@@ -261,25 +283,35 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
     auto rouletteLogScale = [&](float distance_mm) {
         return std::max(0.0f, leastSigmaT * distance_mm - kConnectionRouletteDepth);
     };
-    auto score = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
-        // One uniform number plays every line's roulette: line s survives if
-        // u < exp(-logScale(s)), still with that probability on its own, and
-        // only lines shallower than sMax can. Every line's surface point is
-        // at least the clearance away.
+    // The connection roulette at y: one uniform number u plays every
+    // line's roulette: line s survives if u < exp(-logScale(s)), still with
+    // that probability on its own, and only lines shallower than sMax can.
+    // Every line's surface point is at least the clearance away, so y
+    // connects nowhere when u loses at the clearance.
+    struct ConnectionRoulette {
+        float u;
+        float sMax_mm;
+    };
+    auto connectionRoulette = [&](const Point3f& y) -> std::optional<ConnectionRoulette> {
         const float u = rng.uniform();
         const float nearLogScale = scene_.clearance ? rouletteLogScale(scene_.clearance->at(y)) : 0.0f;
-        if (!(u < std::exp(-nearLogScale))) return;
-        const float sMax_mm =
-            leastSigmaT > 0.0f ? (kConnectionRouletteDepth - std::log(u)) / leastSigmaT : std::numeric_limits<float>::infinity();
+        if (!(u < std::exp(-nearLogScale))) return std::nullopt;
+        return ConnectionRoulette{u, leastSigmaT > 0.0f ? (kConnectionRouletteDepth - std::log(u)) / leastSigmaT
+                                                        : std::numeric_limits<float>::infinity()};
+    };
+    // Scores the light scattered at y towards every line through y, times
+    // weightFactor.
+    auto score = [&](const Point3f& y, const Vec3f& dIn, Label label, float weightFactor,
+                     const SingleChannelPath& p, ConnectionRoulette roulette) {
         const PrismIndex* prisms = prismLevels_.back().get();
         for (const auto& level : prismLevels_)
-            if (level->depth_mm() >= sMax_mm) {
+            if (level->depth_mm() >= roulette.sMax_mm) {
                 prisms = level.get();
                 break;
             }
         prisms->forEachLine(y, [&](const PrismIndex::Line& line) {
             const float logScale = rouletteLogScale(line.s_mm);
-            if (!(u < std::exp(-logScale))) return;
+            if (!(roulette.u < std::exp(-logScale))) return;
             const Ray toSurface{y, line.normal};
             const float T = medium.transmittance(toSurface, line.s_mm, channel,
                                                  TransmittanceRoulette{kConnectionRouletteDepth, &rng, logScale});
@@ -290,10 +322,28 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             auto pixel = patches_.pixelAt(line.prim, line.x_mm);
             if (!pixel || !lightServes_[channel][*pixel]) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
-            perPixel[*pixel] += weight * double(p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
+            perPixel[*pixel] +=
+                weight * double(weightFactor * p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
         });
     };
-    walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, score);
+    const bool alongTracks = options_.scoring == LightTraceOptions::Scoring::Tracks;
+    auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
+        if (alongTracks) return;
+        if (auto roulette = connectionRoulette(y)) score(y, dIn, label, 1.0f, p, *roulette);
+    };
+    auto onFlight = [&](const Ray& r, float tEnd_mm, const SingleChannelPath& p) {
+        if (!alongTracks) return;
+        const float spacing_mm = trackSpacing_mm_[channel];
+        for (float t = rng.uniform() * spacing_mm; t < tEnd_mm; t += spacing_mm) {
+            const Point3f y = r.at(t);
+            auto roulette = connectionRoulette(y);
+            if (!roulette) continue;
+            const Label label = medium.labelAt(scene_.medium->voxelAt(y));
+            const float sigmaS_perMm = lut.sigmaT_perMm[label] * lut.albedo[label];
+            if (sigmaS_perMm > 0.0f) score(y, r.d, label, sigmaS_perMm * spacing_mm, p, *roulette);
+        }
+    };
+    walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, onFlight, onCollision);
 }
 
 }  // namespace pl

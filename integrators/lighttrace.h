@@ -37,6 +37,17 @@ struct LightTraceOptions {
     // cheap there) or where its walks run with a control. False: the light
     // side scores into every pixel but slivers.
     bool hybrid = true;
+    // Where particles score. Collisions: at their real collisions. Tracks:
+    // all along their flights, at points trackSpacing apart (a random
+    // offset per flight), each weighted by sigma_s times the spacing: the
+    // track-length estimator, whose scores do not depend on where the
+    // collisions fell (1.2x faster to the same error on the patterned
+    // test-set scenes, docs/performance.md).
+    enum class Scoring { Collisions, Tracks };
+    Scoring scoring = Scoring::Tracks;
+    // The spacing of track points, in scattering mean free paths of the
+    // most scattering label in the grid (per channel).
+    float trackSpacing_mfp = 1.0f;
 };
 
 class LightTrace : public Integrator {
@@ -110,6 +121,7 @@ private:
     // into, less far from them.
     std::array<std::vector<float>, 3> emissionShare_;
     double meshArea_mm2_ = 0;
+    RGB trackSpacing_mm_{};  // per channel (Scoring::Tracks)
 };
 
 }  // namespace pl

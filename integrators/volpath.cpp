@@ -28,7 +28,9 @@ RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sam
 template <class Path>
 typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
                                     PathStats& stats) const {
-    return walkVolume(scene_, options_, ray, path, medium, rng, stats, [](const Point3f&, const Vec3f&, Label, const Path&) {});
+    return walkVolume(
+        scene_, options_, ray, path, medium, rng, stats, [](const Ray&, float, const Path&) {},
+        [](const Point3f&, const Vec3f&, Label, const Path&) {});
 }
 
 }  // namespace pl

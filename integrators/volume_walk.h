@@ -1,9 +1,12 @@
 // The volumetric random walk volpath traces, written once: delta tracking
 // for distances, HG phase sampling, Fresnel choosing reflection or
 // refraction at random, throughput Russian roulette. Light tracing walks
-// its particles with it and scores at every real collision through
-// onCollision(y, dIn, label, path), called after the albedo and before the
-// roulette.
+// its particles with it and scores through two hooks:
+//  - onFlight(ray, tEnd_mm, path): every flight through the medium, from
+//    ray.o to ray.at(tEnd_mm) (a real collision or the boundary), with the
+//    throughput the particle carries along it;
+//  - onCollision(y, dIn, label, path): every real collision, after the
+//    albedo and before the roulette.
 #pragma once
 
 #include <cstdint>
@@ -21,9 +24,10 @@ struct VolPathOptions {
 
 // Walks `ray` (from outside, or spawned inside) and returns the
 // environment light the path gathers.
-template <class Path, class OnCollision>
+template <class Path, class OnFlight, class OnCollision>
 typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, Ray ray, Path& path,
-                                LabelMedium::Sampler& medium, Rng& rng, PathStats& stats, OnCollision&& onCollision) {
+                                LabelMedium::Sampler& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
+                                OnCollision&& onCollision) {
     const Geometry& geometry = *scene.geometry;
     const float lift = geometry.surfaceLift_mm();
     typename Path::Value L{};   // radiance gathered (only at the end of the path)
@@ -48,17 +52,19 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
             // Medium: delta tracking up to the boundary.
             FreeFlight ff =
                 flightFromSurface(ray, hit->t, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
+            if (!ff.scattered) onFlight(ray, hit->t, path);
             if (ff.scattered) {
-                // Real collision: absorb by throughput Russian roulette.
-                stats.scatterEvents += 1;
-                bounces = 0;
-                path.collide(ff.label);
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
                 // (By the surface lift only: a rayEpsilon here would move
                 // collisions a mean free path deep at sigma_t 1e4/mm.)
                 float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
                 float t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
+                onFlight(ray, t, path);
+                // Real collision: absorb by throughput Russian roulette.
+                stats.scatterEvents += 1;
+                bounces = 0;
+                path.collide(ff.label);
                 const Point3f y = ray.at(t);
                 onCollision(y, ray.d, ff.label, path);
                 float q = path.rouletteValue();

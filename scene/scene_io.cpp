@@ -118,7 +118,8 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
-                                         "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid"};
+                                         "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid",
+                                         "lighttrace_scoring", "lighttrace_track_spacing"};
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -146,6 +147,16 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         if (!(r.lighttrace.particlesPerPixel > 0.0f && r.lighttrace.particlesPerPixel <= 1e6f))
             json.fail("render.particles_per_pixel", "must be in (0, 1e6]");
         r.lighttrace.hybrid = json.boolean(ren, "lighttrace_hybrid", "render", r.lighttrace.hybrid);
+        const std::string scoring = json.string(ren, "lighttrace_scoring", "render",
+                                                 r.lighttrace.scoring == LightTraceOptions::Scoring::Tracks ? "tracks" : "collisions");
+        if (scoring != "collisions" && scoring != "tracks")
+            json.fail("render.lighttrace_scoring", "must be collisions or tracks");
+        r.lighttrace.scoring =
+            scoring == "tracks" ? LightTraceOptions::Scoring::Tracks : LightTraceOptions::Scoring::Collisions;
+        r.lighttrace.trackSpacing_mfp =
+            float(json.number(ren, "lighttrace_track_spacing", "render", r.lighttrace.trackSpacing_mfp));
+        if (!(r.lighttrace.trackSpacing_mfp >= 0.01f && r.lighttrace.trackSpacing_mfp <= 100.0f))
+            json.fail("render.lighttrace_track_spacing", "must be in [0.01, 100] (scattering mean free paths)");
         for (const PrintPtParameter& p : printPtParameters()) {
             if (!ren.contains(p.name)) continue;
             using Kind = PrintPtParameter::Kind;

@@ -65,7 +65,8 @@ struct BlockwiseRender {
 // hybrid: whether printpt takes the pixels it serves better
 // (LightTraceOptions::hybrid; false: the light side scores into every
 // pixel but slivers).
-BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed, bool hybrid) {
+BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t seed, bool hybrid,
+                                  LightTraceOptions::Scoring scoring = LightTraceOptions{}.scoring) {
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
@@ -73,6 +74,7 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     s.seed = seed;
     s.lighttrace.particlesPerPixel = 4;
     s.lighttrace.hybrid = hybrid;
+    s.lighttrace.scoring = scoring;
     const auto integrator = makeIntegrator(scene, sensor, s);
     BlockwiseRender b{RenderResult{Film(sensor.pixelCount()), {}, 0}, {}};
     const double n = double(sensor.pixelCount());
@@ -97,8 +99,9 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     return b;
 }
 
-void expectAgreementWithVolpath(const Scene& scene, const std::string& what, bool hybrid) {
-    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1, hybrid);
+void expectAgreementWithVolpath(const Scene& scene, const std::string& what, bool hybrid,
+                                LightTraceOptions::Scoring scoring = LightTraceOptions{}.scoring) {
+    const BlockwiseRender blocks = renderLightBlocks(scene, 16, 1, hybrid, scoring);
     const RenderResult& light = blocks.result;
     // Enough volpath samples that a black voxel's reflection (F = 0.04)
     // is surely met: a pixel whose samples are all equal reports no error.
@@ -131,13 +134,16 @@ TEST(LightTrace, WhiteFurnaceIsTheEnvironment) {
     EXPECT_LT(beyond, values / 100 + 2);
 }
 
-// One scattering material, the light side in every pixel.
+// One scattering material, the light side in every pixel, scoring along
+// tracks (the default) and at collisions.
 TEST(LightTrace, AgreesWithVolpathOnOneMaterial) {
     MaterialTable t = test::tableOf({{4, material({20, 30, 10}, {0.95f, 0.9f, 0.99f}, {0.4f, 0.0f, 0.6f})}});
     for (float ior : {1.0f, 1.5f})
         expectAgreementWithVolpath(
             test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, ior),
             "ior " + std::to_string(ior), false);
+    expectAgreementWithVolpath(test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, 1.5f),
+                               "collisions", false, LightTraceOptions::Scoring::Collisions);
 }
 
 // The hybrid: printpt takes the pixels over one resin (the first four 8^3
@@ -205,7 +211,7 @@ TEST(LightTrace, AgreesWithVolpathOnACurvedHalftone) {
 // The deterministic discrete-ordinates solve of a slab (media/slab_transport.h)
 // on the central voxels of a 2 x 2 x 0.6 mm slab at sigma_t 100 /mm, n = 1.5
 // (the centre is 9 diffusion lengths of the most scattering channel from
-// the sides): every voxel within 4 of its reported standard errors, bar 1 %.
+// the sides): every voxel within 4 of its reported standard errors, bar one.
 // The particles cover the whole slab, so there are many per pixel.
 TEST(LightTrace, SlabAgainstTheDeterministicSolver) {
     const RGB albedo{0.9f, 0.5f, 0.95f}, g{0.0f, 0.4f, 0.4f};
@@ -237,7 +243,9 @@ TEST(LightTrace, SlabAgainstTheDeterministicSolver) {
             beyond += std::abs(r.film.mean(p, c) - reference) > 4.0 * r.film.standardError(p, c);
             sum += r.film.mean(p, c);
         }
-        EXPECT_LE(beyond, r.film.pixelCount() / 100) << "channel " << c;
+        // Errors from 16 blocks: t-distributed (15 degrees of freedom), so
+        // one value in 36 beyond 4 sigma happens (p ~ 0.04).
+        EXPECT_LE(beyond, r.film.pixelCount() / 100 + 1) << "channel " << c;
         // The pixels share particles: their mean is only checked loosely.
         EXPECT_NEAR(sum / double(r.film.pixelCount()), reference, 0.05 * reference) << "channel " << c;
     }
