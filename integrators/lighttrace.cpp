@@ -33,9 +33,6 @@ const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
         throw std::invalid_argument(
             "lighttrace scores into surface-voxel patches: the sensor must be \"surface_voxels\" with \"footprint\": "
             "\"patch\"");
-    if (s->patches()->emptyPatches() > 0)
-        throw std::invalid_argument("lighttrace: " + std::to_string(s->patches()->emptyPatches()) +
-                                    " surface voxels have an empty patch (the mesh does not cross them)");
     return *s;
 }
 
@@ -229,13 +226,14 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
                                   partStats[part]);
                     continue;
                 }
+                if (patches_.area_mm2(i) == 0.0) continue;  // an empty patch: nothing enters there
                 const double expected = particlesPerPixel * emissionShare_[channel][i];
                 const double whole = std::floor(expected);
                 const int count = int(whole) + (rng.uniform() < expected - whole ? 1 : 0);
                 const double weight = Le * kPi * patches_.area_mm2(i) / expected;
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
-                    const auto x = patches_.sample(i, u0, u1);  // never empty: the constructor refuses empty patches
+                    const auto x = patches_.sample(i, u0, u1);  // not empty (above)
                     traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tallies[part],
                                   partStats[part]);
                 }
@@ -312,6 +310,8 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
         prisms->forEachLine(y, [&](const PrismIndex::Line& line) {
             const float logScale = rouletteLogScale(line.s_mm);
             if (!(roulette.u < std::exp(-logScale))) return;
+            auto pixel = patches_.pixelAt(line.prim, line.x_mm);
+            if (!pixel || !lightServes_[channel][*pixel]) return;
             const Ray toSurface{y, line.normal};
             const float T = medium.transmittance(toSurface, line.s_mm, channel,
                                                  TransmittanceRoulette{kConnectionRouletteDepth, &rng, logScale});
@@ -319,8 +319,6 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             // The line's first segment: nothing between y and the patch.
             auto hit = geometry.intersect(toSurface, line.s_mm + visibilityTolerance_mm);
             if (!hit || hit->t < line.s_mm - visibilityTolerance_mm) return;
-            auto pixel = patches_.pixelAt(line.prim, line.x_mm);
-            if (!pixel || !lightServes_[channel][*pixel]) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
             perPixel[*pixel] +=
                 weight * double(weightFactor * p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);

@@ -79,10 +79,12 @@ public:
     // walks run with a control, which is nearly exact there).
     ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                              PathStats& stats) const override;
-    // Pixels whose patch is at least this fraction of the voxel's cross
-    // section along the patch's normal: smaller ones (slivers of triangles
-    // the cut gave to a voxel) would take 1 / area of every score that
-    // lands under them, rare and large.
+    // The light side scores into pixels whose patch is at least this
+    // fraction of the voxel's cross section along the patch's normal:
+    // smaller ones (slivers of triangles the cut gave to a voxel) would take
+    // 1 / area of every score that lands under them, rare and large. Empty
+    // patches (voxels the mesh does not cross) are printpt's along the
+    // sensor's ray.
     static constexpr float kMinPatchFraction = 0.25f;
     // Pixels the light side leaves to printpt, in a channel.
     size_t cameraOnlyPixels(int channel) const;

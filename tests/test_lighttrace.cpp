@@ -275,6 +275,32 @@ TEST(LightTrace, SameBitsForOneAndTwoThreads) {
 }
 
 // Other sensors have no patches to score into: a clear refusal.
+// A notch of void under a flat face: the voxels behind it are surface
+// voxels the mesh does not cross (empty patches). printpt serves them along
+// the sensor's ray, the light side the rest.
+TEST(LightTrace, LeavesEmptyPatchesToPrintPt) {
+    MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
+    auto notched = [](const Vec3i& v) {
+        return v.x == 0 && v.y >= 4 && v.y < 6 && v.z >= 3 && v.z < 5 ? test::kTestVoid : Label(4);
+    };
+    const Scene scene = test::boxScene(kResolution, kVoxel_mm, notched, t, 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
+    ASSERT_EQ(sensor.patches()->emptyPatches(), 4u);
+    RenderSettings s;
+    s.integrator = "lighttrace";
+    s.spp = 2;
+    s.lighttrace.hybrid = false;
+    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
+    for (int c = 0; c < 3; ++c) EXPECT_GE(probe.cameraOnlyPixels(c), 4u);
+    const RenderResult r = render(scene, sensor, s);
+    for (size_t p = 0; p < r.film.pixelCount(); ++p)
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(std::isfinite(r.film.mean(p, c)));
+            EXPECT_GT(r.film.mean(p, c), 0.0f);
+        }
+}
+
 TEST(LightTrace, RefusesASensorWithoutPatches) {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
     const Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(4); }, t, 1.5f);
