@@ -17,6 +17,9 @@
 // underestimates heavy-tailed estimators at few samples. Its relative MSE
 // divides each pixel's variance by one squared mean for all renders of the
 // run (their means pooled, weighted by 1 / MSE), not by each render's own.
+//   printlight bench --limit [--threads N]: the limit walk's rate alone
+//   (apps/limit_walk.h). Every bench run measures it too, and the tables give
+//   each render's scattering events per second per core against it.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -27,6 +30,9 @@
 #include <stdexcept>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
+#include "apps/limit_walk.h"
+#include "apps/number_text.h"
 #include "runtime/progress.h"
 #include "integrators/half_space_walk.h"
 #include "scene/registry.h"
@@ -146,6 +152,7 @@ struct Row {
     double rmse, relMse, mseTime;
     RGB passSeconds;  // per channel (separate passes; zero for one pass)
     double medianRelativeError = 0, secondsToTarget = 0;  // whole-object quality (timeToTarget)
+    double eventsPerSecondPerCore = 0;  // scattering events over wall time and threads
 };
 
 // Where a channel's own pass shows where the time and the error go: each
@@ -319,9 +326,17 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
 
 int benchCommand(const std::vector<std::string>& argv) {
     Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out",
-                          "--target-relative-error"},
-                   {"--self-variance"});
-    if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json");
+                          "--target-relative-error", "--threads"},
+                   {"--self-variance", "--limit"});
+    ThreadLimit threads(args);
+    if (args.has("--limit") && args.positional().empty()) {
+        const LimitWalkRate limit = measureLimitWalk(threads.count);
+        std::printf("limit walk: %s scattering events/s/core (%s events on %d thread(s) in %.2f s)\n",
+                    siRate(limit.eventsPerSecondPerCore).c_str(), withThousands(limit.events).c_str(), limit.threads,
+                    limit.seconds);
+        return 0;
+    }
+    if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json (or --limit alone)");
     SceneDescription desc = parseScene(args.positional()[0]);
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};
@@ -409,6 +424,10 @@ int benchCommand(const std::vector<std::string>& argv) {
     // Self-variance: at least kMinSelfSpp samples, or exactly --spp (>= 2:
     // the sample variance is unbiased from two samples on).
     const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
+    // The floor every configuration's event rate is read against, in this
+    // process and run.
+    const LimitWalkRate limit = measureLimitWalk(threads.count);
+    std::fprintf(stderr, "bench: limit walk %s events/s/core\n", siRate(limit.eventsPerSecondPerCore).c_str());
     std::vector<Row> rows;
     // Self-variance: each render's film, kept until all are done for the
     // relative MSE (one denominator for all renders).
@@ -437,7 +456,8 @@ int benchCommand(const std::vector<std::string>& argv) {
             if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
-                            timeToTarget(r.seconds, medianRel, target)});
+                            timeToTarget(r.seconds, medianRel, target),
+                            double(r.stats.scatterEvents) / (r.seconds * threads.count)});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
@@ -479,21 +499,25 @@ int benchCommand(const std::vector<std::string>& argv) {
     else
         md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
            << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
+    md << "Limit walk, same run: " << siRate(limit.eventsPerSecondPerCore) << " scattering events/s/core on "
+       << limit.threads << " thread(s) (no lookups: exponential flights and HG sampling in an infinite medium). "
+       << "events/s/core: each render's scattering events over its wall time and threads.\n\n";
     char targetText[32];
     std::snprintf(targetText, sizeof targetText, "%g %%", 100.0 * target);
     md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
-       << baseline << " | median rel. error | time to " << targetText << " (s) |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       << baseline << " | median rel. error | time to " << targetText << " (s) | events/s/core | of limit |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline,"
-           "median_rel_error,seconds_to_target\n";
+           "median_rel_error,seconds_to_target,events_per_s_per_core,fraction_of_limit\n";
     for (const Row& r : rows) {
         double speedup = baselineRows.count(r.budget) ? baselineRows[r.budget]->mseTime / r.mseTime : NAN;
         char line[512];
         std::snprintf(line, sizeof line,
-                      "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f | %.4g | %.4g",
+                      "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f",
                       r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
                       r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup, r.medianRelativeError,
-                      r.secondsToTarget);
+                      r.secondsToTarget, r.eventsPerSecondPerCore,
+                      r.eventsPerSecondPerCore / limit.eventsPerSecondPerCore);
         md << "| " << line << " |\n";
         std::string c = line;
         for (char& ch : c)

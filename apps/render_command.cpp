@@ -5,6 +5,7 @@
 
 #include "apps/arguments.h"
 #include "apps/command_options.h"
+#include "apps/number_text.h"
 #include "runtime/progress.h"
 #include "scene/registry.h"
 #include "io/grid_io.h"
@@ -21,21 +22,6 @@ std::filesystem::path outputBase(std::filesystem::path p) {
     std::string ext = p.extension().string();
     if (ext == ".exr" || ext == ".png" || ext == ".vdb") p.replace_extension();
     return p;
-}
-
-std::string withThousands(uint64_t n) {
-    std::string s = std::to_string(n);
-    for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(size_t(i), ",");
-    return s;
-}
-
-std::string siRate(double v) {
-    char buf[32];
-    if (v >= 1e9) std::snprintf(buf, sizeof buf, "%.2fG", v / 1e9);
-    else if (v >= 1e6) std::snprintf(buf, sizeof buf, "%.2fM", v / 1e6);
-    else if (v >= 1e3) std::snprintf(buf, sizeof buf, "%.1fk", v / 1e3);
-    else std::snprintf(buf, sizeof buf, "%.0f", v);
-    return buf;
 }
 
 // Which of printpt's controls ran (shares of the walks), and the part of

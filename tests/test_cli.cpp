@@ -348,11 +348,20 @@ TEST(Cli, BenchGivesTheTimeToATargetRelativeError) {
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const std::string csv = readText(s.dir / "t.csv");
-    EXPECT_NE(csv.find(",median_rel_error,seconds_to_target\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",median_rel_error,seconds_to_target,events_per_s_per_core,fraction_of_limit\n"),
+              std::string::npos)
+        << csv;
     std::vector<std::string> cells;
     std::istringstream row(csv.substr(csv.find('\n') + 1));
     for (std::string cell; std::getline(row, cell, ',');) cells.push_back(cell);
-    ASSERT_EQ(cells.size(), 13u) << csv;
+    ASSERT_EQ(cells.size(), 15u) << csv;
+    // The event rate against the limit walk of the same run: a render does
+    // lookups and boundary tests the limit walk does not.
+    const double eventsPerCore = std::stod(cells[13]), ofLimit = std::stod(cells[14]);
+    EXPECT_GT(eventsPerCore, 0.0) << csv;
+    EXPECT_GT(ofLimit, 0.0) << csv;
+    EXPECT_LT(ofLimit, 1.0) << csv;
+    EXPECT_NE(readText(s.dir / "t.md").find("Limit walk, same run: "), std::string::npos);
     const double seconds = std::stod(cells[3]), median = std::stod(cells[11]), toTarget = std::stod(cells[12]);
     ASSERT_GT(median, 0.001) << "the test needs a render short of the target";
     ASSERT_LT(median, 1.0);
@@ -361,6 +370,17 @@ TEST(Cli, BenchGivesTheTimeToATargetRelativeError) {
     r = printlight("bench " + scene.string() + " --self-variance --target-relative-error 2", s.dir);
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("--target-relative-error must be in (0, 1)"), std::string::npos) << r.err;
+}
+
+// The limit walk alone: no scene, its rate on the threads asked for.
+TEST(Cli, BenchLimitWalk) {
+    TestScene s("bench_limit");
+    CliRun r = printlight("bench --limit --threads 1", s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("scattering events/s/core (20,000,000 events on 1 thread(s)"), std::string::npos) << r.out;
+    r = printlight("bench", s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("bench needs exactly one SCENE.json (or --limit alone)"), std::string::npos) << r.err;
 }
 
 TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
