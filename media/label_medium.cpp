@@ -11,7 +11,6 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
     : grid_(std::move(grid)), materials_(std::move(materials)) {
     for (int c = 0; c < 3; ++c) luts_[c] = ChannelLut::build(materials_, grid_.voidLabel(), c);
     majorants_ = MajorantGrid(grid_, luts_);
-    brickLabels_ = BrickLabels(grid_, majorants_);
     uniform_ = UniformRegions(grid_);
     scale_ = grid_.frame().worldToCellScale();
     offset_ = grid_.frame().worldToCellOffset();
@@ -19,18 +18,18 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
 
 LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed)
     : grid_(std::move(grid)), materials_(previous.materials_), luts_(previous.luts_), majorants_(previous.majorants_),
-      brickLabels_(previous.brickLabels_), uniform_(previous.uniform_), fields_(previous.fields_) {
+      uniform_(previous.uniform_), fields_(previous.fields_) {
     majorants_.update(grid_, luts_, changed);
-    brickLabels_.update(grid_, majorants_, changed);
     uniform_.update(grid_, changed);
     scale_ = grid_.frame().worldToCellScale();
     offset_ = grid_.frame().worldToCellOffset();
 }
 
 struct LabelMedium::Sampler::Impl {
+    openvdb::tree::ValueAccessor<const LabelTreeType> accessor;
     std::unique_ptr<openvdb::FloatGrid::ConstAccessor> sdf;
     std::unique_ptr<openvdb::Vec3SGrid::ConstAccessor> normal;
-    explicit Impl(const VoxelFields* fields) {
+    Impl(const LabelTreeType& tree, const VoxelFields* fields) : accessor(tree) {
         if (!fields) return;
         sdf = std::make_unique<openvdb::FloatGrid::ConstAccessor>(fields->grids().sdf->getConstAccessor());
         normal = std::make_unique<openvdb::Vec3SGrid::ConstAccessor>(fields->grids().normal->getConstAccessor());
@@ -38,7 +37,7 @@ struct LabelMedium::Sampler::Impl {
 };
 
 LabelMedium::Sampler::Sampler(const LabelMedium& medium, Majorants majorants)
-    : impl_(std::make_unique<Impl>(medium.fields_.get())), medium_(medium),
+    : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium),
       majorants_(majorants) {}
 
 std::optional<LabelMedium::Sampler::NearestSurface> LabelMedium::Sampler::nearestSurface(const Point3f& p) {
@@ -52,13 +51,13 @@ LabelMedium::Sampler::~Sampler() = default;
 
 Label LabelMedium::Sampler::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
-    return medium_.brickLabels_.at(v);
+    return impl_->accessor.getValue(toCoord(v));
 }
 
 template <class Events>
 FreeFlight LabelMedium::Sampler::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
-    const BrickLabels& labels = medium_.brickLabels_;
-    auto labelAt = [&labels](const Vec3i& v) PL_ALWAYS_INLINE { return labels.at(v); };
+    auto& acc = impl_->accessor;
+    auto labelAt = [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
     const CellRay cellRay = medium_.toCellRay(ray);
     if (majorants_ == Majorants::Global) {
         auto segments = [&](auto&& visit) {
@@ -90,16 +89,17 @@ FreeFlight LabelMedium::Sampler::sampleFreeFlightSpectral(const Ray& ray, float 
 
 FreeFlight LabelMedium::Sampler::freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel,
                                                    float opticalDepth) {
-    const BrickLabels& labels = medium_.brickLabels_;
+    auto& acc = impl_->accessor;
     return inverseTrack(medium_.toCellRay(ray), tMax_mm, opticalDepth, medium_.frame(), medium_.majorants_,
-                        medium_.luts_[channel], channel, [&labels](const Vec3i& v) { return labels.at(v); });
+                        medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
 }
 
 float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel,
                                           TransmittanceRoulette roulette) {
-    const BrickLabels& labels = medium_.brickLabels_;
+    auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,
-                        medium_.luts_[channel], channel, [&labels](const Vec3i& v) { return labels.at(v); }, roulette);
+                        medium_.luts_[channel], channel,
+                        [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, roulette);
 }
 
 }  // namespace pl

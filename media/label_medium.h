@@ -1,7 +1,6 @@
 // The heterogeneous medium inside the object: label grid + material table +
-// per-brick majorants, and the flat brick map the trackers read labels from.
-// Samplers are per thread (each owns the surface fields' OpenVDB accessors)
-// and are never shared.
+// per-brick majorants. Samplers are per thread (each owns an OpenVDB value
+// accessor) and are never shared.
 #pragma once
 
 #include <array>
@@ -9,7 +8,6 @@
 #include <optional>
 
 #include "core/rng.h"
-#include "media/brick_labels.h"
 #include "media/label_grid.h"
 #include "media/majorant_grid.h"
 #include "media/materials.h"
@@ -97,7 +95,6 @@ private:
     MaterialTable materials_;
     std::array<ChannelLut, 3> luts_;
     MajorantGrid majorants_;
-    BrickLabels brickLabels_;  // what the trackers look labels up in
     UniformRegions uniform_;
     Vec3f scale_, offset_;
     std::shared_ptr<const VoxelFields> fields_;

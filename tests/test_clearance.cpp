@@ -6,7 +6,6 @@
 
 #include "core/rng.h"
 #include "core/surface_clearance.h"
-#include "media/brick_labels.h"
 #include "media/majorant_grid.h"
 #include "test_util.h"
 
@@ -135,51 +134,6 @@ TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
                 EXPECT_EQ(maj.solidLabel(b), full.solidLabel(b)) << bx << " " << by << " " << bz;
             }
     for (int c = 0; c < 3; ++c) EXPECT_EQ(maj.globalMaxSigmaT(c), full.globalMaxSigmaT(c));
-}
-
-// The flat brick map reads every voxel's label as the grid holds it, built
-// whole and after updates: a one-label brick that gets a second label, a
-// brick emptied whole (one label again), scattered changes.
-TEST(BrickLabels, ReadTheGridsLabelsBuiltWholeAndUpdated) {
-    const Vec3i res{45, 37, 29};  // not a multiple of the brick size
-    LabelGrid grid = test::boxGrid(res, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) {
-        if (v.x < 20) return Label(4);
-        return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 3);
-    });
-    std::array<ChannelLut, 3> luts;
-    for (int c = 0; c < 3; ++c)
-        for (int l = 0; l < 256; ++l) luts[c].sigmaT_perMm[l] = float(l + 1);
-    MajorantGrid maj(grid, luts);
-    BrickLabels labels(grid, maj);
-    auto expectSameLabels = [&](const LabelGrid& g, const BrickLabels& b, const char* what) {
-        size_t wrong = 0;
-        for (int z = 0; z < res.z; ++z)
-            for (int y = 0; y < res.y; ++y)
-                for (int x = 0; x < res.x; ++x) wrong += b.at({x, y, z}) != g.label({x, y, z});
-        EXPECT_EQ(wrong, 0u) << what;
-    };
-    expectSameLabels(grid, labels, "built whole");
-    Rng rng = Rng::forPath(12, 0, 0, 0);
-    std::vector<LabelGrid::Change> changes;
-    std::vector<Vec3i> voxels;
-    for (int k = 0; k < 300; ++k) {
-        Vec3i v{int(rng.uniform() * res.x), int(rng.uniform() * res.y), int(rng.uniform() * res.z)};
-        changes.push_back({v, Label(int(rng.uniform() * 4) == 0 ? test::kTestVoid : int(rng.uniform() * 4))});
-        voxels.push_back(v);
-    }
-    for (int z = 0; z < 8; ++z)
-        for (int y = 0; y < 8; ++y)
-            for (int x = 0; x < 8; ++x) {
-                changes.push_back({{x + 24, y + 8, z + 8}, test::kTestVoid});
-                voxels.push_back({x + 24, y + 8, z + 8});
-            }
-    changes.push_back({{3, 3, 3}, Label(1)});  // inside a one-label brick of 4
-    voxels.push_back({3, 3, 3});
-    const LabelGrid next = grid.withChanges(changes);
-    maj.update(next, luts, voxels);
-    labels.update(next, maj, voxels);
-    expectSameLabels(next, labels, "updated");
-    expectSameLabels(next, BrickLabels(next, MajorantGrid(next, luts)), "rebuilt");
 }
 
 }  // namespace
