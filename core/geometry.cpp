@@ -121,6 +121,8 @@ bool closestPointCallback(RTCPointQueryFunctionArguments* args) {
 
 Geometry::Geometry(TriangleMesh mesh) : impl_(std::make_unique<Impl>()), mesh_(std::move(mesh)) {
     for (const Point3f& p : mesh_.positions_mm) bounds_.expand(p);
+    faceNormals_.reserve(mesh_.triangleCount());
+    for (size_t t = 0; t < mesh_.triangleCount(); ++t) faceNormals_.push_back(triangleNormal(mesh_, uint32_t(t)));
     float maxAbs = 0;
     for (int a = 0; a < 3; ++a)
         maxAbs = std::max({maxAbs, std::abs(bounds_.lo[a]), std::abs(bounds_.hi[a])});
@@ -166,7 +168,7 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax, float 
     rtcIntersect1(impl_->scene, &context, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::nullopt;
 
-    SurfaceHit hit = pointOn(rh.hit.primID, rh.hit.u, rh.hit.v);
+    SurfaceHit hit = normalsAt(rh.hit.primID, rh.hit.u, rh.hit.v);
     hit.t = rh.ray.tfar;
     hit.p = ray.at(hit.t);
     return hit;
@@ -174,10 +176,16 @@ std::optional<SurfaceHit> Geometry::intersect(const Ray& ray, float tMax, float 
 
 SurfaceHit Geometry::pointOn(uint32_t prim, float u, float v) const {
     const uint32_t* idx = &mesh_.indices[3 * size_t(prim)];
+    SurfaceHit hit = normalsAt(prim, u, v);
+    hit.p = mesh_.positions_mm[idx[0]] * (1 - u - v) + mesh_.positions_mm[idx[1]] * u + mesh_.positions_mm[idx[2]] * v;
+    return hit;
+}
+
+SurfaceHit Geometry::normalsAt(uint32_t prim, float u, float v) const {
+    const uint32_t* idx = &mesh_.indices[3 * size_t(prim)];
     SurfaceHit hit;
     hit.t = 0.0f;
-    hit.p = mesh_.positions_mm[idx[0]] * (1 - u - v) + mesh_.positions_mm[idx[1]] * u + mesh_.positions_mm[idx[2]] * v;
-    hit.ng = triangleNormal(mesh_, prim);
+    hit.ng = faceNormals_[prim];
     hit.ns = hit.ng;
     hit.prim = prim;
     if (!mesh_.normals.empty()) {

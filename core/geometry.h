@@ -102,9 +102,13 @@ public:
     }
 
 private:
+    // The normals and primitive of the point (u, v) of a triangle (no point).
+    SurfaceHit normalsAt(uint32_t prim, float u, float v) const;
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
     TriangleMesh mesh_;
+    std::vector<Vec3f> faceNormals_;  // per triangle, unit (every hit needs one)
     Bounds3f bounds_;
     float rayEpsilon_mm_, surfaceLift_mm_;
 };
