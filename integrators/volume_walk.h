@@ -20,6 +20,11 @@ namespace pl {
 struct VolPathOptions {
     bool reentry = false;  // trace light that leaves the object back against it
     int64_t maxDepth = -1; // scattering events per path; < 0: unlimited (unbiased)
+    // After a real collision, sample the flight up to the surface clearance
+    // (a lower bound of the distance to the boundary) before asking Embree:
+    // a collision within it needs no boundary query. False: every flight
+    // starts with one (the textbook order; the same estimate, other bits).
+    bool clearanceFirst = true;
 };
 
 // Walks `ray` (from outside, or spawned inside) and returns the
@@ -34,32 +39,53 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
     int64_t depth = 0;          // scattering events
     int64_t bounces = 0;        // boundary events since the last scattering event
     bool spawnedInside = false; // only for counting numerical leaks
+    bool afterCollision = false; // the ray starts at a real collision, strictly inside
+    auto track = [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); };
     stats.paths += 1;
 
     for (;;) {
-        // Which side the ray is on follows from the boundary it reaches
-        // next, never from a remembered state: a ray that round-off put on
-        // the other side stays consistent.
-        auto hit = geometry.intersect(ray);
-        if (!hit) {
-            if (spawnedInside) stats.leaks += 1;
-            path.addLight(L, 1.0f);  // escapes to the environment
-            return L;
+        // After a collision: the flight up to the clearance first (less the
+        // lift, for round-off). A collision there is inside for sure.
+        float cleared_mm = 0.0f;
+        FreeFlight ff;
+        if (afterCollision && options.clearanceFirst && scene.clearance) {
+            cleared_mm = std::max(0.0f, scene.clearance->at(ray.o) - lift);
+            if (cleared_mm > 0.0f) ff = track(ray, cleared_mm);
         }
-        bool fromInside = dot(ray.d, hit->ng) > 0;
+        // Otherwise the boundary: which side the ray is on follows from the
+        // boundary it reaches next, never from a remembered state (a ray
+        // that round-off put on the other side stays consistent).
+        std::optional<SurfaceHit> hit;
+        if (!ff.scattered) {
+            hit = geometry.intersect(ray);
+            if (!hit) {
+                if (spawnedInside) stats.leaks += 1;
+                path.addLight(L, 1.0f);  // escapes to the environment
+                return L;
+            }
+        }
+        bool fromInside = !hit || dot(ray.d, hit->ng) > 0;
 
         if (fromInside) {
-            // Medium: delta tracking up to the boundary.
-            FreeFlight ff =
-                flightFromSurface(ray, hit->t, [&](const Ray& r, float tMax) { return path.track(medium, r, tMax, rng); });
+            // Medium: delta tracking up to the boundary (the rest of it
+            // beyond the cleared part: free flights are memoryless).
+            if (hit && cleared_mm > 0.0f) {
+                ff = track(Ray{ray.at(cleared_mm), ray.d}, std::max(0.0f, hit->t - cleared_mm));
+                if (ff.scattered) ff.t_mm += cleared_mm;
+            } else if (hit) {
+                ff = flightFromSurface(ray, hit->t, track);
+            }
             if (!ff.scattered) onFlight(ray, hit->t, path);
             if (ff.scattered) {
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
                 // (By the surface lift only: a rayEpsilon here would move
                 // collisions a mean free path deep at sigma_t 1e4/mm.)
-                float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
-                float t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
+                float t = ff.t_mm;
+                if (hit) {
+                    const float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
+                    t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
+                }
                 onFlight(ray, t, path);
                 // Real collision: absorb by throughput Russian roulette.
                 stats.scatterEvents += 1;
@@ -76,6 +102,7 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
                 Vec3f dOut = path.samplePhase(ff.label, ray.d, rng);
                 ray = {y, dOut};
                 spawnedInside = true;
+                afterCollision = true;
                 continue;
             }
         }
@@ -111,6 +138,7 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
         if (dot(d, hit->ng) * side <= 0) d = hit->ng * side;
         ray = geometry.spawnRay(hit->p, hit->ng, d);
         spawnedInside = !nowOutside;
+        afterCollision = false;
     }
 }
 

@@ -6,7 +6,7 @@ namespace pl {
 
 const std::vector<IntegratorKind>& integratorKinds() {
     static const std::vector<IntegratorKind> kinds = {
-        {"volpath", [](const RenderSettings&) { return SceneNeeds{}; },
+        {"volpath", [](const RenderSettings& s) { return SceneNeeds{false, s.volpath.clearanceFirst}; },
          [](const RenderSettings&) { return std::string(); },
          [](const RenderSettings&) { return true; },
          [](const Scene& scene, const Sensor&, const RenderSettings& s,
