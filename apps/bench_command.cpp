@@ -53,6 +53,10 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     v.integrator = "volpath";
     v.volpath.reentry = false;
     c["volpath"] = v;
+    // Every flight starts with a boundary query (no clearance first).
+    RenderSettings geometryFirst = v;
+    geometryFirst.volpath.clearanceFirst = false;
+    c["volpath-geometry-first"] = geometryFirst;
     RenderSettings p = v;
     p.integrator = "printpt";
     p.printpt = PrintPtOptions{};
