@@ -5,14 +5,19 @@
 //   cube10_greek.gltf, cube20_greek.gltf     the same with a high-frequency meander texture (greek.png)
 //   animal.gltf, animal_spotted.gltf         a thin, curvy seahorse-like tube ~5 x 12 x 13 mm, white / spotted (spots.png)
 //   bone.gltf                                a ~44 mm bone-like shape with ~60k triangles (memory and scale)
+//   cube10_clear.vdb                         labels for cube10.gltf: clear resin with a white 4 mm core and a
+//                                            halftoned ring inlaid 0.1-0.6 mm under the top face (a clear
+//                                            print with coloured inlays; prepare does not make clear prints)
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 
 #include "core/rng.h"
+#include "io/grid_io.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
+#include "media/label_grid.h"
 
 namespace {
 
@@ -134,6 +139,39 @@ Texture spotsTexture() {
 
 }  // namespace
 
+// The clear block's labels (research convention: 0 cyan, 1 magenta, 2
+// yellow, 3 black, 4 white, 5 void, 6 clear) at the printer's voxel size,
+// voxel centres inside [0, 10]^3 mm, two void voxels around.
+LabelGrid clearBlock() {
+    constexpr Label kVoid = 5, kWhite = 4, kClear = 6;
+    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};
+    const float size_mm = 10.0f;
+    GridFrame frame;
+    for (int a = 0; a < 3; ++a) frame.resolution[a] = int(std::ceil(size_mm / voxel_mm[a])) + 4;
+    frame.voxelSize_mm = voxel_mm;
+    frame.cornerMin_mm = {-2 * voxel_mm.x, -2 * voxel_mm.y, -2 * voxel_mm.z};
+    LabelGridBuilder builder(frame, kVoid);
+    for (int z = 0; z < frame.resolution.z; ++z) {
+        for (int y = 0; y < frame.resolution.y; ++y)
+            for (int x = 0; x < frame.resolution.x; ++x) {
+                const Point3f c = frame.voxelCenter_mm({x, y, z});
+                if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > size_mm || c.y > size_mm || c.z > size_mm) continue;
+                Label label = kClear;
+                const float half = 0.5f * size_mm;
+                if (std::abs(c.x - half) < 2 && std::abs(c.y - half) < 2 && std::abs(c.z - half) < 2) label = kWhite;
+                const float depth_mm = size_mm - c.z, ring_mm = std::hypot(c.x - half, c.y - half);
+                if (depth_mm > 0.1f && depth_mm < 0.6f && ring_mm > 2.0f && ring_mm < 3.5f) {
+                    // A magenta-and-black halftone: three voxels in five magenta.
+                    const uint64_t h = mix64(uint64_t(x) * 73856093u ^ uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u);
+                    label = h % 5 < 3 ? Label(1) : h % 5 == 3 ? Label(3) : kWhite;
+                }
+                builder.set({x, y, z}, label);
+            }
+        if (z % 32 == 0) builder.compact();
+    }
+    return builder.finish();
+}
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: make-test-data OUTDIR\n");
@@ -177,6 +215,8 @@ int main(int argc, char** argv) {
               },
               bone, boneLook);
         writeGltf(bone, boneLook, "", dir / "bone.gltf");
+
+        writeLabelGridVdb(clearBlock(), dir / "cube10_clear.vdb");
     } catch (const std::exception& e) {
         std::fprintf(stderr, "make-test-data: error: %s\n", e.what());
         return 1;

@@ -250,6 +250,14 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             path.addLight(L, hitWeight * (1.0f - F));  // the transmitted part leaves for good
             path.scale(F);
             if (!path.alive()) return end(false);
+            // With no collision between inner reflections (clear resin) the
+            // path would go on until its weight underflows: the throughput
+            // roulette plays here too (a controlled walk's comes with its
+            // collisions).
+            if constexpr (!kControlled) {
+                const float q = std::min(options_.rrCap, path.rouletteValue() / options_.rrThreshold);
+                if (!playRoulette(q, rng, [&](float survival) { path.scale(1.0f / survival); })) return end(true);
+            }
         } else if (!(rng.uniform() < F)) {
             path.addLight(L, hitWeight);
             return end(false);

@@ -9,7 +9,7 @@ set -eu
 cd "$(dirname "$0")/.."
 configs=${1:-volpath,printpt}
 [ $# -gt 0 ] && shift
-models=${*:-cube10 cube10_greek animal animal_spotted cube20 cube20_greek bone}
+models=${*:-cube10 cube10_greek cube10_clear animal animal_spotted cube20 cube20_greek bone}
 mkdir -p out/bench
 for m in $models; do
     scene=data/scenes/testset/${m}_surface.json

@@ -211,6 +211,32 @@ TEST(PrintPt, BallWalksAgreeWithVolpath) {
     expectAgreement(volpath, renderMean(scene, sensor, s), "no ball walks");
 }
 
+// Clear resin around a white core: no collisions between inner reflections,
+// so only the throughput roulette at the boundary ends a path that light
+// partly leaves at every reflection. Unbiased: agrees with volpath.
+TEST(PrintPt, ClearResinAgreesWithVolpath) {
+    MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})},
+                                     {6, material({1e-4f, 1e-4f, 1e-4f}, {1, 1, 1}, {0, 0, 0})}});
+    const Vec3i res{40, 32, 24};
+    Scene scene = test::boxScene(res, {0.05f, 0.05f, 0.05f},
+                                 [&](const Vec3i& v) {
+                                     int d = std::min({v.x, v.y, v.z, res.x - 1 - v.x, res.y - 1 - v.y, res.z - 1 - v.z});
+                                     return Label(d >= 8 ? 4 : 6);
+                                 },
+                                 t, 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    RenderSettings reference;
+    reference.spp = 16;
+    reference.seed = 31;
+    const Estimate volpath = renderMean(scene, sensor, reference);
+    RenderSettings s = reference;
+    s.integrator = "printpt";
+    s.spp = 4;
+    s.seed = 32;
+    expectAgreement(volpath, renderMean(scene, sensor, s), "clear resin");
+}
+
 // The half-space control variate: unbiased (agrees with volpath, with the
 // error of the control means included) on a white block and on one with a
 // halftone-like shell, where the walks part early; and on the white block
