@@ -24,6 +24,11 @@ constexpr float kConnectionRouletteDepth = 2.0f;
 // pixel the light side scores into (no brick of theirs or next to theirs
 // holds one); weighted back, so the estimate stays unbiased.
 constexpr float kFarEmissionShare = 0.125f;
+// Track points whose weight (sigma_s times the spacing) is below this
+// connect by Russian roulette. Clear resin's points (weight ~1e-5) then
+// cost nothing; a threshold of 1 also thinned the dark inks' points and
+// lost 10 % on the greek cube (docs/performance.md).
+constexpr float kLeastTrackWeight = 0.01f;
 // The relative light left at the inward normal lines' depth.
 constexpr float kLineDepthOpticalDepth = 13.8f;  // e^-13.8 ~ 1e-6
 
@@ -337,8 +342,13 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             auto roulette = connectionRoulette(y);
             if (!roulette) continue;
             const Label label = medium.labelAt(scene_.medium->voxelAt(y));
-            const float sigmaS_perMm = lut.sigmaT_perMm[label] * lut.albedo[label];
-            if (sigmaS_perMm > 0.0f) score(y, r.d, label, sigmaS_perMm * spacing_mm, p, *roulette);
+            // A point's weight sigma_s h is 1 in the most scattering label.
+            // Where it is far below (clear resin), the point connects with
+            // probability weight / kLeastTrackWeight instead, so that
+            // negligible weights cost no connections.
+            const float weight = lut.sigmaT_perMm[label] * lut.albedo[label] * spacing_mm;
+            const float keep = std::min(1.0f, weight / kLeastTrackWeight);
+            if (keep > 0.0f && rng.uniform() < keep) score(y, r.d, label, weight / keep, p, *roulette);
         }
     };
     walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, onFlight, onCollision);
