@@ -84,10 +84,10 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     RenderSettings collisions = light;
     collisions.lighttrace.scoring = LightTraceOptions::Scoring::Collisions;
     c["lighttrace-collisions"] = collisions;
-    for (const char* spacing : {"0.5", "2"}) {
+    for (const auto& [spacing_mfp, name] : {std::pair<float, const char*>{0.5f, "0.5"}, {2.0f, "2"}}) {
         RenderSettings tracks = light;
-        tracks.lighttrace.trackSpacing_mfp = std::stof(spacing);
-        c[std::string("lighttrace-tracks-") + spacing] = tracks;
+        tracks.lighttrace.trackSpacing_mfp = spacing_mfp;
+        c[std::string("lighttrace-tracks-") + name] = tracks;
     }
     for (float particles : {4.0f, 16.0f}) {
         light.lighttrace.particlesPerPixel = particles;

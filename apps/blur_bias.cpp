@@ -8,7 +8,10 @@
 //  - the mean squared relative bias (sum_j w_j L_j - L) / L, noise
 //    removed: the render's own error variance of that difference is
 //    subtracted, so a value at or below 0 means "below what the render
-//    resolves";
+//    resolves". L in the denominator is the mean radiance of the voxel's
+//    label (the voxel's own value is as noisy as the difference). The
+//    subtraction takes the voxels' errors as independent: true of the path
+//    tracers' renders, not of lighttrace's (neighbours share particles);
 //  - the same with every voxel's radiance replaced by the mean radiance of
 //    its label (no noise: how much the halftone's own contrast blurs).
 // Voxels are taken as flat faces: the plane is across the first axis on
@@ -18,11 +21,13 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <stdexcept>
 #include <vector>
 
 #include <openvdb/openvdb.h>
 
 #include "core/rng.h"
+#include "core/vecmath.h"
 #include "io/grid_io.h"
 #include "media/label_grid.h"
 
@@ -42,7 +47,7 @@ std::vector<double> discWeights(double radius) {
     const int n = 2000000;
     for (int i = 0; i < n; ++i) {
         const double cx = rng.uniform(), cy = rng.uniform();
-        const double angle = 2 * M_PI * rng.uniform(), rho = radius * std::sqrt(rng.uniform());
+        const double angle = 2 * kPi * rng.uniform(), rho = radius * std::sqrt(rng.uniform());
         const int du = int(std::floor(cx + rho * std::cos(angle))), dv = int(std::floor(cy + rho * std::sin(angle)));
         if (std::abs(du) <= kReach && std::abs(dv) <= kReach) w[(du + kReach) * kSide + dv + kReach] += 1.0 / n;
     }
@@ -68,8 +73,8 @@ int main(int argc, char** argv) try {
     openvdb::initialize();
     const auto radiance = readVec3Grid(argv[1], "radiance"), stderrs = readVec3Grid(argv[1], "stderr");
     const LabelGrid labels = loadLabelGrid(argv[2], std::nullopt);
-    const Vec3i lo = labels.frame().indexMin;
-    auto labelAt = [&](const openvdb::Coord& k) { return int(labels.label({k.x() - lo.x, k.y() - lo.y, k.z() - lo.z})); };
+    // The prediction's voxels are at the label grid's own indices.
+    auto labelAt = [&](const openvdb::Coord& k) { return int(labels.label({k.x(), k.y(), k.z()})); };
     auto L = radiance->getConstAccessor();
     auto S = stderrs->getConstAccessor();
 
@@ -135,8 +140,9 @@ int main(int argc, char** argv) try {
                 modelBias.push_back(std::abs(modelBlurred[c] - mean[c]) / mean[c]);
             }
         }
+        if (modelBias.empty()) throw std::runtime_error("no surface voxel with an exposed face to blur over");
         std::sort(modelBias.begin(), modelBias.end());
-        std::printf("%.2f | %.2f | %+.2e (rms %.1f %%) | %.1f %% / %.1f %%\n", radius, M_PI * radius * radius,
+        std::printf("%.2f | %.2f | %+.2e (rms %.1f %%) | %.1f %% / %.1f %%\n", radius, kPi * radius * radius,
                     sumSquared / count, 100 * std::sqrt(std::max(0.0, sumSquared / count)),
                     100 * modelBias[modelBias.size() / 2], 100 * modelBias[modelBias.size() * 3 / 4]);
     }

@@ -1,5 +1,6 @@
 #include "apps/limit_walk.h"
 
+#include <algorithm>
 #include <chrono>
 #include <vector>
 

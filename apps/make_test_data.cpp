@@ -18,6 +18,7 @@
 #include "io/image_io.h"
 #include "io/mesh_io.h"
 #include "media/label_grid.h"
+#include "media/materials.h"
 
 namespace {
 
@@ -137,13 +138,10 @@ Texture spotsTexture() {
     return t;
 }
 
-}  // namespace
-
-// The clear block's labels (research convention: 0 cyan, 1 magenta, 2
-// yellow, 3 black, 4 white, 5 void, 6 clear) at the printer's voxel size,
+// The clear block's labels (ResearchLabel) at the printer's voxel size,
 // voxel centres inside [0, 10]^3 mm, two void voxels around.
 LabelGrid clearBlock() {
-    constexpr Label kVoid = 5, kWhite = 4, kClear = 6;
+    constexpr Label kVoid = kVoidLabel, kWhite = kWhiteLabel, kClear = kClearLabel;
     const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};
     const float size_mm = 10.0f;
     GridFrame frame;
@@ -161,9 +159,9 @@ LabelGrid clearBlock() {
                 if (std::abs(c.x - half) < 2 && std::abs(c.y - half) < 2 && std::abs(c.z - half) < 2) label = kWhite;
                 const float depth_mm = size_mm - c.z, ring_mm = std::hypot(c.x - half, c.y - half);
                 if (depth_mm > 0.1f && depth_mm < 0.6f && ring_mm > 2.0f && ring_mm < 3.5f) {
-                    // A magenta-and-black halftone: three voxels in five magenta.
+                    // A halftone: of five voxels three magenta, one black, one white.
                     const uint64_t h = mix64(uint64_t(x) * 73856093u ^ uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u);
-                    label = h % 5 < 3 ? Label(1) : h % 5 == 3 ? Label(3) : kWhite;
+                    label = h % 5 < 3 ? Label(kMagentaLabel) : h % 5 == 3 ? Label(kBlackLabel) : kWhite;
                 }
                 builder.set({x, y, z}, label);
             }
@@ -171,6 +169,8 @@ LabelGrid clearBlock() {
     }
     return builder.finish();
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
     if (argc != 2) {

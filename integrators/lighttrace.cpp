@@ -25,9 +25,9 @@ constexpr float kConnectionRouletteDepth = 2.0f;
 // holds one); weighted back, so the estimate stays unbiased.
 constexpr float kFarEmissionShare = 0.125f;
 // Track points whose weight (sigma_s times the spacing) is below this
-// connect by Russian roulette. Clear resin's points (weight ~1e-5) then
-// cost nothing; a threshold of 1 also thinned the dark inks' points and
-// lost 10 % on the greek cube (docs/performance.md).
+// connect by Russian roulette: clear resin's points (weight ~1e-5) cost no
+// connections, the inks' (0.07 and up in black) keep theirs
+// (docs/performance.md, "A clear block").
 constexpr float kLeastTrackWeight = 0.01f;
 // The relative light left at the inward normal lines' depth.
 constexpr float kLineDepthOpticalDepth = 13.8f;  // e^-13.8 ~ 1e-6
@@ -96,6 +96,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
       leastSigmaT_(leastSigmaTOf(scene)) {
+    if (!(options.trackSpacing_mfp > 0.0f)) throw std::invalid_argument("lighttrace: the track spacing must be positive");
     const float depth_mm = lineDepthFor_mm(scene, leastSigmaT_);
     for (float fraction : {0.125f, 0.25f, 0.5f, 1.0f})
         prismLevels_.push_back(std::make_unique<PrismIndex>(scene.geometry->mesh(), depth_mm * fraction));
@@ -337,18 +338,22 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
     auto onFlight = [&](const Ray& r, float tEnd_mm, const SingleChannelPath& p) {
         if (!alongTracks) return;
         const float spacing_mm = trackSpacing_mm_[channel];
-        for (float t = rng.uniform() * spacing_mm; t < tEnd_mm; t += spacing_mm) {
+        const float offset = rng.uniform();
+        for (int64_t k = 0;; ++k) {
+            const float t = (float(k) + offset) * spacing_mm;  // no round-off carried from point to point
+            if (!(t < tEnd_mm)) break;
             const Point3f y = r.at(t);
             auto roulette = connectionRoulette(y);
             if (!roulette) continue;
             const Label label = medium.labelAt(scene_.medium->voxelAt(y));
-            // A point's weight sigma_s h is 1 in the most scattering label.
-            // Where it is far below (clear resin), the point connects with
-            // probability weight / kLeastTrackWeight instead, so that
-            // negligible weights cost no connections.
-            const float weight = lut.sigmaT_perMm[label] * lut.albedo[label] * spacing_mm;
-            const float keep = std::min(1.0f, weight / kLeastTrackWeight);
-            if (keep > 0.0f && rng.uniform() < keep) score(y, r.d, label, weight / keep, p, *roulette);
+            // A point's weight sigma_s h is the spacing in mean free paths
+            // in the most scattering label. Where it is far below (clear
+            // resin), the point connects with probability pointWeight /
+            // kLeastTrackWeight instead, so that negligible weights cost no
+            // connections.
+            const float pointWeight = lut.sigmaT_perMm[label] * lut.albedo[label] * spacing_mm;
+            const float keep = std::min(1.0f, pointWeight / kLeastTrackWeight);
+            if (keep > 0.0f && rng.uniform() < keep) score(y, r.d, label, pointWeight / keep, p, *roulette);
         }
     };
     walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, onFlight, onCollision);

@@ -39,8 +39,9 @@ struct LightTraceOptions {
     bool hybrid = true;
     // Where particles score. Collisions: at their real collisions. Tracks:
     // all along their flights, at points trackSpacing apart (a random
-    // offset per flight), each weighted by sigma_s times the spacing (or,
-    // where that is below 1, connected with that probability): the
+    // offset per flight), each weighted by sigma_s times the spacing (where
+    // that is below 0.01, as in clear resin, connected by Russian
+    // roulette): the
     // track-length estimator, whose scores do not depend on where the
     // collisions fell (1.2x faster to the same error on the patterned
     // test-set scenes, docs/performance.md).

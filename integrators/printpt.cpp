@@ -250,14 +250,13 @@ typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& med
             path.addLight(L, hitWeight * (1.0f - F));  // the transmitted part leaves for good
             path.scale(F);
             if (!path.alive()) return end(false);
-            // With no collision between inner reflections (clear resin) the
-            // path would go on until its weight underflows: the throughput
-            // roulette plays here too (a controlled walk's comes with its
-            // collisions).
-            if constexpr (!kControlled) {
-                const float q = std::min(options_.rrCap, path.rouletteValue() / options_.rrThreshold);
-                if (!playRoulette(q, rng, [&](float survival) { path.scale(1.0f / survival); })) return end(true);
-            }
+            // The throughput roulette plays after every inner reflection
+            // too: where no collision comes between reflections (clear
+            // resin) nothing else would end the path before its weight
+            // underflows. Not in a controlled walk, whose control walker
+            // does not reflect here: scaling both would part them.
+            if constexpr (!kControlled)
+                if (!survivesRouletteAbove(path, options_.rrThreshold, rng)) return end(true);
         } else if (!(rng.uniform() < F)) {
             path.addLight(L, hitWeight);
             return end(false);
@@ -277,7 +276,12 @@ float PrintPt::rouletteThreshold(const Path& path, Label label) const {
 
 template <class Path>
 bool PrintPt::survivesRoulette(Path& path, Label label, Rng& rng) const {
-    const float q = std::min(options_.rrCap, path.rouletteValue() / rouletteThreshold(path, label));
+    return survivesRouletteAbove(path, rouletteThreshold(path, label), rng);
+}
+
+template <class Path>
+bool PrintPt::survivesRouletteAbove(Path& path, float threshold, Rng& rng) const {
+    const float q = std::min(options_.rrCap, path.rouletteValue() / threshold);
     return playRoulette(q, rng, [&](float survival) {
         if constexpr (std::is_same_v<Path, ControlledPath>) path.survive(survival);  // the control's weight too
         else path.scale(1.0f / survival);

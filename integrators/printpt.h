@@ -96,9 +96,13 @@ private:
     // The walk compiled for the scene's switches.
     template <class Path>
     WalkFunction<Path> selectWalk() const;
-    // Russian roulette on the throughput; false: the walk ends.
+    // Russian roulette on the throughput at a collision in `label`; false:
+    // the walk ends.
     template <class Path>
     bool survivesRoulette(Path& path, Label label, Rng& rng) const;
+    // The same with survival min(rr_cap, throughput / threshold).
+    template <class Path>
+    bool survivesRouletteAbove(Path& path, float threshold, Rng& rng) const;
     template <class Path>
     float rouletteThreshold(const Path& path, Label label) const;
     // A ball around p, inside the object, that holds only one label;

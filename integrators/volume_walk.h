@@ -3,8 +3,10 @@
 // refraction at random, throughput Russian roulette. Light tracing walks
 // its particles with it and scores through two hooks:
 //  - onFlight(ray, tEnd_mm, path): every flight through the medium, from
-//    ray.o to ray.at(tEnd_mm) (a real collision or the boundary), with the
-//    throughput the particle carries along it;
+//    ray.o to ray.at(tEnd_mm) (a real collision or the boundary; the ray
+//    starts at the surface where the walk spawned it there, so the medium
+//    before a spawned ray's origin counts), with the throughput the
+//    particle carries along it;
 //  - onCollision(y, dIn, label, path): every real collision, after the
 //    albedo and before the roulette.
 #pragma once
@@ -75,7 +77,10 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
             } else if (hit) {
                 ff = flightFromSurface(ray, hit->t, track);
             }
-            if (!ff.scattered) onFlight(ray, hit->t, path);
+            // The flight as the hook sees it: from the surface for a ray the
+            // walk spawned there (flightFromSurface tracks that stretch too).
+            const Ray flight{ray.o - ray.d * ray.mediumBefore_mm, ray.d};
+            if (!ff.scattered) onFlight(flight, hit->t + ray.mediumBefore_mm, path);
             if (ff.scattered) {
                 // Keep the vertex strictly inside: a collision within float
                 // round-off of the boundary could otherwise land outside.
@@ -86,7 +91,7 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
                     const float cosine = std::max(std::abs(dot(ray.d, hit->ng)), 1.0f / 16.0f);
                     t = std::max(0.0f, std::min(ff.t_mm, hit->t - lift / cosine));
                 }
-                onFlight(ray, t, path);
+                onFlight(flight, t + ray.mediumBefore_mm, path);
                 // Real collision: absorb by throughput Russian roulette.
                 stats.scatterEvents += 1;
                 bounces = 0;

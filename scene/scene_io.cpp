@@ -119,7 +119,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
                                          "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid",
-                                         "lighttrace_scoring", "lighttrace_track_spacing"};
+                                         "lighttrace_scoring", "lighttrace_track_spacing_mfp"};
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -154,9 +154,9 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         r.lighttrace.scoring =
             scoring == "tracks" ? LightTraceOptions::Scoring::Tracks : LightTraceOptions::Scoring::Collisions;
         r.lighttrace.trackSpacing_mfp =
-            float(json.number(ren, "lighttrace_track_spacing", "render", r.lighttrace.trackSpacing_mfp));
+            float(json.number(ren, "lighttrace_track_spacing_mfp", "render", r.lighttrace.trackSpacing_mfp));
         if (!(r.lighttrace.trackSpacing_mfp >= 0.01f && r.lighttrace.trackSpacing_mfp <= 100.0f))
-            json.fail("render.lighttrace_track_spacing", "must be in [0.01, 100] (scattering mean free paths)");
+            json.fail("render.lighttrace_track_spacing_mfp", "must be in [0.01, 100] (scattering mean free paths)");
         for (const PrintPtParameter& p : printPtParameters()) {
             if (!ren.contains(p.name)) continue;
             using Kind = PrintPtParameter::Kind;
