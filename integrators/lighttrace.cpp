@@ -41,34 +41,25 @@ const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
     return *s;
 }
 
-// Calls f(label) for each label the grid holds (void aside).
-template <class F>
-void forEachLabelIn(const Scene& scene, F&& f) {
+// Per channel, over the labels the grid holds (void aside; one pass over
+// the grid): the least extinction, and the largest scattering coefficient
+// (at least 1e-6 /mm).
+struct GridCoefficients {
+    RGB leastSigmaT{1e30f, 1e30f, 1e30f};
+    RGB mostSigmaS{1e-6f, 1e-6f, 1e-6f};
+};
+GridCoefficients gridCoefficientsOf(const Scene& scene) {
     const std::array<uint64_t, 256> voxels = scene.medium->grid().histogram();
-    for (int l = 0; l < 256; ++l)
-        if (voxels[l] != 0 && l != scene.medium->grid().voidLabel()) f(Label(l));
-}
-
-// The least extinction per channel of the labels the grid holds.
-RGB leastSigmaTOf(const Scene& scene) {
-    RGB least{1e30f, 1e30f, 1e30f};
-    forEachLabelIn(scene, [&](Label l) {
-        for (int c = 0; c < 3; ++c) least[c] = std::min(least[c], scene.medium->lut(c).sigmaT_perMm[l]);
-    });
-    return least;
-}
-
-// The largest scattering coefficient per channel of the labels the grid
-// holds (at least 1e-6 /mm).
-RGB mostSigmaSOf(const Scene& scene) {
-    RGB most{1e-6f, 1e-6f, 1e-6f};
-    forEachLabelIn(scene, [&](Label l) {
+    GridCoefficients g;
+    for (int l = 0; l < 256; ++l) {
+        if (voxels[l] == 0 || l == scene.medium->grid().voidLabel()) continue;
         for (int c = 0; c < 3; ++c) {
             const ChannelLut& lut = scene.medium->lut(c);
-            most[c] = std::max(most[c], lut.sigmaT_perMm[l] * lut.albedo[l]);
+            g.leastSigmaT[c] = std::min(g.leastSigmaT[c], lut.sigmaT_perMm[l]);
+            g.mostSigmaS[c] = std::max(g.mostSigmaS[c], lut.sigmaT_perMm[l] * lut.albedo[l]);
         }
-    });
-    return most;
+    }
+    return g;
 }
 
 // How deep the inward normal lines reach into the object: where the least
@@ -94,9 +85,10 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       volpath_(scene, volpath),
       printpt_(scene, printpt, seed, std::move(controlMeans)),
       majorants_(majorants),
-      lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
-      leastSigmaT_(leastSigmaTOf(scene)) {
+      lightSeed_(mix64(seed ^ 0x6c69676874ULL)) {
     if (!(options.trackSpacing_mfp > 0.0f)) throw std::invalid_argument("lighttrace: the track spacing must be positive");
+    const GridCoefficients coefficients = gridCoefficientsOf(scene);
+    leastSigmaT_ = coefficients.leastSigmaT;
     const float depth_mm = lineDepthFor_mm(scene, leastSigmaT_);
     for (float fraction : {0.125f, 0.25f, 0.5f, 1.0f})
         prismLevels_.push_back(std::make_unique<PrismIndex>(scene.geometry->mesh(), depth_mm * fraction));
@@ -110,8 +102,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         areaCdf_mm2_.push_back(meshArea_mm2_);
     }
     const Vec3f v = scene.medium->frame().voxelSize_mm;
-    const RGB mostSigmaS = mostSigmaSOf(scene);
-    for (int c = 0; c < 3; ++c) trackSpacing_mm_[c] = options.trackSpacing_mfp / mostSigmaS[c];
+    for (int c = 0; c < 3; ++c) trackSpacing_mm_[c] = options.trackSpacing_mfp / coefficients.mostSigmaS[c];
     for (auto& serves : lightServes_) serves.resize(sensor_.pixelCount());
     for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
         const Vec3f n = sensor_.pixels()[p].normal;

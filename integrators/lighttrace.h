@@ -8,8 +8,9 @@
 //    segment without scattering on it (through the segment's far boundary);
 //  - the light side (scoreLightBlock): light scattered last on that
 //    segment. Particles enter from the environment and walk with volpath's
-//    walk; every real collision scores into each patch whose inward normal
-//    line holds it, through the transmittance to the surface, the phase
+//    walk; points along their flights (or their real collisions,
+//    LightTraceOptions::scoring) score into each patch whose inward normal
+//    line holds them, through the transmittance to the surface, the phase
 //    function towards the normal, the Fresnel transmission out and 1/n^2.
 // Each sample of a pixel is its camera sample plus one block of particles'
 // score: the blocks are independent, so the spread of a pixel's samples is
@@ -41,10 +42,9 @@ struct LightTraceOptions {
     // all along their flights, at points trackSpacing apart (a random
     // offset per flight), each weighted by sigma_s times the spacing (where
     // that is below 0.01, as in clear resin, connected by Russian
-    // roulette): the
-    // track-length estimator, whose scores do not depend on where the
-    // collisions fell (1.2x faster to the same error on the patterned
-    // test-set scenes, docs/performance.md).
+    // roulette): the track-length estimator, whose scores do not depend on
+    // where the collisions fell (1.2x faster to the same error on the
+    // patterned test-set scenes, docs/performance.md).
     enum class Scoring { Collisions, Tracks };
     Scoring scoring = Scoring::Tracks;
     // The spacing of track points, in scattering mean free paths of the
