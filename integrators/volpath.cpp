@@ -6,12 +6,15 @@ namespace pl {
 
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
                           PathStats& stats) const {
-    ChannelSample sample{traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats); })};
+    // The entry, asked once: the walk starts from it, and it names the pool.
+    const std::optional<SurfaceHit> entry = scene_.geometry->intersect(ray);
+    ChannelSample sample{
+        traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats, &entry); })};
     // A sample is Le or 0 (or a roulette weight): a pixel's few samples are
     // often all equal, and their spread then says nothing. There its error
     // is the second moment pooled over the samples entering the same
     // label (Film, ChannelSample::poolWhereFlat).
-    if (auto entry = scene_.geometry->intersect(ray); entry && dot(ray.d, entry->ng) < 0) {
+    if (entry && dot(ray.d, entry->ng) < 0) {
         const Point3f inside = entry->p - entry->ng * scene_.geometry->rayEpsilon_mm();
         sample.poolKey = entryPoolKey(channel, medium.labelAt(scene_.medium->voxelAt(inside)));
         sample.residual = sample.value;
@@ -26,11 +29,11 @@ RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sam
 }
 
 template <class Path>
-typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
-                                    PathStats& stats) const {
+typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats,
+                                    const std::optional<SurfaceHit>* firstHit) const {
     return walkVolume(
         scene_, options_, ray, path, medium, rng, stats, [](const Ray&, float, const Path&) {},
-        [](const Point3f&, const Vec3f&, Label, const Path&) {});
+        [](const Point3f&, const Vec3f&, Label, const Path&) {}, firstHit);
 }
 
 }  // namespace pl

@@ -20,8 +20,10 @@ public:
               PathStats& stats) const override;
 
 private:
+    // firstHit: the geometry's answer along `ray`, if the caller has it.
     template <class Path>
-    typename Path::Value trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    typename Path::Value trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats,
+                               const std::optional<SurfaceHit>* firstHit = nullptr) const;
 
     const Scene& scene_;
     VolPathOptions options_;

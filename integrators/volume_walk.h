@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
@@ -30,11 +31,12 @@ struct VolPathOptions {
 };
 
 // Walks `ray` (from outside, or spawned inside) and returns the
-// environment light the path gathers.
+// environment light the path gathers. firstHit: where the caller already
+// asked the geometry along `ray` (the answer, a hit or none), not asked again.
 template <class Path, class OnFlight, class OnCollision>
 typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, Ray ray, Path& path,
                                 LabelMedium::Sampler& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
-                                OnCollision&& onCollision) {
+                                OnCollision&& onCollision, const std::optional<SurfaceHit>* firstHit = nullptr) {
     const Geometry& geometry = *scene.geometry;
     const float lift = geometry.surfaceLift_mm();
     typename Path::Value L{};   // radiance gathered (only at the end of the path)
@@ -59,7 +61,8 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
         // that round-off put on the other side stays consistent).
         std::optional<SurfaceHit> hit;
         if (!ff.scattered) {
-            hit = geometry.intersect(ray);
+            hit = firstHit ? *firstHit : geometry.intersect(ray);
+            firstHit = nullptr;
             if (!hit) {
                 if (spawnedInside) stats.leaks += 1;
                 path.addLight(L, 1.0f);  // escapes to the environment
