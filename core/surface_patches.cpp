@@ -79,18 +79,27 @@ Vec3i SurfacePatches::cellOf(const Point3f& x_mm) const {
             int(std::floor(x_mm.z * scale.z + offset.z))};
 }
 
-uint64_t SurfacePatches::pieceKey(uint32_t prim, const Vec3i& cell) const {
+SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& cell) const {
     // The cell's index in the frame widened by 2 cells each side (the mesh
-    // lies within a cell of the frame), below 2^40; the triangle above.
-    const Vec3i r = frame_.resolution + Vec3i{4, 4, 4};
+    // lies within a cell of the frame); its brick's index below 2^40, the
+    // triangle above.
     const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
-    return (uint64_t(prim) << 40) | ((uint64_t(c.z) * uint64_t(r.y) + uint64_t(c.y)) * uint64_t(r.x) + uint64_t(c.x));
+    const Vec3i r = frame_.resolution;
+    const Vec3i bricks{(r.x + 4 + 7) >> 3, (r.y + 4 + 7) >> 3, (r.z + 4 + 7) >> 3};
+    const Vec3i b{c.x >> 3, c.y >> 3, c.z >> 3};
+    const uint64_t brick = (uint64_t(b.z) * uint64_t(bricks.y) + uint64_t(b.y)) * uint64_t(bricks.x) + uint64_t(b.x);
+    return {(uint64_t(prim) << 40) | brick, uint16_t((c.x & 7) | (c.y & 7) << 3 | (c.z & 7) << 6)};
 }
 
 std::optional<uint32_t> SurfacePatches::pixelAt(uint32_t prim, const Point3f& x_mm) const {
-    auto it = pixelOfPiece_.find(pieceKey(prim, cellOf(x_mm)));
-    if (it == pixelOfPiece_.end()) return std::nullopt;
-    return it->second;
+    const PieceSlot slot = pieceSlot(prim, cellOf(x_mm));
+    auto it = brickCells_.find(slot.brickKey);
+    if (it == brickCells_.end()) return std::nullopt;
+    const uint16_t* b = cellInBrick_.data() + it->second.first;
+    const uint16_t* e = b + it->second.count;
+    const uint16_t* at = std::lower_bound(b, e, slot.cellInBrick);
+    if (at == e || *at != slot.cellInBrick) return std::nullopt;
+    return ownerOfCell_[at - cellInBrick_.data()];
 }
 
 SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels)
@@ -183,8 +192,26 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         emptyPatches_ += first_[i] == first_[i + 1];
     }
     for (double a : unassigned) unassignedArea_mm2_ += a;
+    struct SlotOwner {
+        PieceSlot slot;
+        uint32_t pixel;
+    };
+    std::vector<SlotOwner> owners;
     for (size_t t = 0; t < triangles; ++t)
-        for (const CellOwner& o : cellOwners[t]) pixelOfPiece_.emplace(pieceKey(uint32_t(t), o.cell), o.pixel);
+        for (const CellOwner& o : cellOwners[t]) owners.push_back({pieceSlot(uint32_t(t), o.cell), o.pixel});
+    std::sort(owners.begin(), owners.end(), [](const SlotOwner& a, const SlotOwner& b) {
+        return a.slot.brickKey != b.slot.brickKey ? a.slot.brickKey < b.slot.brickKey
+                                                  : a.slot.cellInBrick < b.slot.cellInBrick;
+    });
+    cellInBrick_.reserve(owners.size());
+    ownerOfCell_.reserve(owners.size());
+    for (size_t i = 0; i < owners.size(); ++i) {
+        BrickCells& cells = brickCells_[owners[i].slot.brickKey];
+        if (cells.count == 0) cells.first = uint32_t(i);
+        cells.count += 1;
+        cellInBrick_.push_back(owners[i].slot.cellInBrick);
+        ownerOfCell_.push_back(owners[i].pixel);
+    }
 }
 
 std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, float u0, float u1) const {

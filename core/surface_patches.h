@@ -13,8 +13,9 @@
 
 #include <cstdint>
 #include <optional>
-#include <unordered_map>
 #include <vector>
+
+#include <absl/container/flat_hash_map.h>
 
 #include "core/geometry.h"
 #include "core/grid_frame.h"
@@ -57,13 +58,27 @@ public:
     size_t emptyPatches() const { return emptyPatches_; }
 
 private:
-    // The cell a point of the mesh is in (cell coordinates floored), and
-    // the key of (triangle, cell).
+    // The cell a point of the mesh is in (cell coordinates floored).
     Vec3i cellOf(const Point3f& x_mm) const;
-    uint64_t pieceKey(uint32_t prim, const Vec3i& cell) const;
+    // Where a (triangle, cell) pair is kept: the key of its triangle and
+    // 8^3-cell brick, and the cell's slot in that brick.
+    struct PieceSlot {
+        uint64_t brickKey;
+        uint16_t cellInBrick;
+    };
+    PieceSlot pieceSlot(uint32_t prim, const Vec3i& cell) const;
 
     GridFrame frame_;
-    std::unordered_map<uint64_t, uint32_t> pixelOfPiece_;
+    // The owners of the pieces, by (triangle, brick) and then by cell:
+    // light tracing looks a pixel up per connection, and one particle's
+    // track points fall in few bricks, whose entries stay in cache (a
+    // table keyed by cell missed the cache on nearly every lookup).
+    struct BrickCells {
+        uint32_t first, count;  // into cellInBrick_ / ownerOfCell_, sorted by cell
+    };
+    absl::flat_hash_map<uint64_t, BrickCells> brickCells_;
+    std::vector<uint16_t> cellInBrick_;
+    std::vector<uint32_t> ownerOfCell_;
     std::vector<Piece> pieces_;  // grouped by pixel
     std::vector<uint64_t> first_;
     std::vector<double> area_mm2_;
