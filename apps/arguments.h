@@ -1,10 +1,12 @@
-// A tiny command-line reader: positional arguments and --key value options.
+// A command's command line, read with CLI11: its operands (positional
+// arguments) and options, each declared with what it does, so that
+// `printlight COMMAND --help` lists them. A usage error is one line that
+// names the option and points at `printlight COMMAND --help`.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <optional>
-#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -14,51 +16,28 @@
 
 namespace pl {
 
+struct Option {
+    std::string names;      // "--spp", or "-o,--output" (looked up by the first)
+    std::string valueName;  // what the value is, e.g. "N" or "FILE"; empty for a flag
+    std::string help;
+};
+
 class Arguments {
 public:
-    // valueOptions take a value; flagOptions do not.
-    Arguments(const std::vector<std::string>& args, std::set<std::string> valueOptions,
-              std::set<std::string> flagOptions) {
-        for (size_t i = 0; i < args.size(); ++i) {
-            const std::string& a = args[i];
-            if (a.size() > 1 && a[0] == '-') {
-                if (valueOptions.count(a)) {
-                    if (i + 1 >= args.size()) throw UsageError(a + " needs a value");
-                    values_[a] = args[++i];
-                } else if (flagOptions.count(a)) {
-                    values_[a] = "";
-                } else {
-                    throw UsageError("unknown option '" + a + "'");
-                }
-            } else {
-                positional_.push_back(a);
-            }
-        }
-    }
+    // Parses args for the command named `command` (commands.h); throws
+    // HelpRequested for --help and UsageError for anything it cannot read.
+    Arguments(const std::string& command, const std::vector<std::string>& args, const std::vector<Option>& options);
     const std::vector<std::string>& positional() const { return positional_; }
-    bool has(const std::string& k) const { return values_.count(k) != 0; }
-    std::optional<std::string> value(const std::string& k) const {
-        auto it = values_.find(k);
+    bool has(const std::string& name) const { return values_.count(name) != 0; }
+    std::optional<std::string> value(const std::string& name) const {
+        auto it = values_.find(name);
         return it == values_.end() ? std::nullopt : std::optional<std::string>(it->second);
     }
-    std::optional<int64_t> integer(const std::string& k, int64_t lo, int64_t hi) const {
-        auto v = value(k);
-        if (!v) return std::nullopt;
-        size_t used = 0;
-        int64_t x = 0;
-        try {
-            x = std::stoll(*v, &used);
-        } catch (const std::exception&) {
-            used = 0;
-        }
-        if (used != v->size() || x < lo || x > hi)
-            throw UsageError(k + " must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
-        return x;
-    }
+    std::optional<int64_t> integer(const std::string& name, int64_t lo, int64_t hi) const;
 
 private:
     std::vector<std::string> positional_;
-    std::map<std::string, std::string> values_;
+    std::map<std::string, std::string> values_;  // by the option's first name; "" for a flag
 };
 
 // "x,y,z" as three numbers (UsageError naming the option otherwise).

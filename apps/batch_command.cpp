@@ -94,7 +94,14 @@ std::string describeComparison(const JobOutcome& o, const std::vector<int>& chan
 }  // namespace
 
 int batchCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"-o", "--compare", "--threads", "--seed-offset", "--max-outlier-fraction"}, {"--quiet"});
+    Arguments args("batch", argv,
+                   {{"-o,--output", "DIR", "where the results go (required)"},
+                    {"--compare", "STORED_DIR", "check each result against a stored one: bit-identical for the same "
+                                                "code and seed, else per-pixel t tests and a bias test; exit 1 on failure"},
+                    kThreadsOption,
+                    {"--seed-offset", "N", "added to every scene's seed"},
+                    {"--max-outlier-fraction", "F", "share of pixels a comparison may fail (0..1)"},
+                    kQuietOption});
     if (args.positional().size() != 1) throw UsageError("batch needs exactly one MANIFEST.json");
     auto outDir = args.value("-o");
     if (!outDir) throw UsageError("batch needs -o DIR for its results");

@@ -329,9 +329,18 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
 }  // namespace
 
 int benchCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--reference", "--make-reference", "--budgets", "--configs", "--spp", "--integrator", "--out",
-                          "--target-relative-error", "--threads"},
-                   {"--self-variance", "--limit"});
+    Arguments args("bench", argv,
+                   {{"--make-reference", "REF.exr", "render a reference (with --spp, default 256, and --integrator)"},
+                    {"--reference", "REF.exr", "the error of each configuration against a reference"},
+                    {"--self-variance", "", "the error from each render's own variance (no reference)"},
+                    {"--budgets", "1,2,4,...", "sample budgets, in multiples of the scene's spp"},
+                    {"--configs", "A,B,...", "estimator configurations (default volpath,printpt)"},
+                    kSppOption,
+                    integratorOption(),
+                    {"--out", "PREFIX", "tables and plot: PREFIX.md, .csv, .svg (default bench)"},
+                    {"--target-relative-error", "E", "the time to that median per-pixel relative error (default 0.02)"},
+                    kThreadsOption,
+                    {"--limit", "", "the limit walk (a lookup-free walk in an infinite medium) alone"}});
     ThreadLimit threads(args);
     if (args.has("--limit") && args.positional().empty()) {
         const LimitWalkRate limit = measureLimitWalk(threads.count);

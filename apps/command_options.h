@@ -13,6 +13,16 @@
 
 namespace pl {
 
+// The options several commands take, declared once.
+inline const Option kThreadsOption{"--threads", "N", "worker threads (default: every core)"};
+inline const Option kSppOption{"--spp", "N", "samples per pixel (overrides the scene's)"};
+inline const Option kSeedOption{"--seed", "S", "random seed (overrides the scene's); same seed, same bits"};
+inline const Option kChannelOption{"--channel", "r|g|b|rgb", "colour channels to render"};
+inline const Option kChannelSamplingOption{"--channel-sampling", "separate|hero|spectral",
+                                           "how rgb is sampled (docs/scene-format.md)"};
+inline Option integratorOption() { return {"--integrator", "NAME", "the estimator: " + integratorNames()}; }
+inline const Option kQuietOption{"--quiet", "", "no progress or summary on stderr"};
+
 // --threads N (default: all cores) for as long as this object lives.
 class ThreadLimit {
 public:

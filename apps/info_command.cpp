@@ -2,13 +2,14 @@
 #include <cstdio>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "io/grid_io.h"
 #include "media/materials.h"
 
 namespace pl {
 
 int infoCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--void-label"}, {});
+    Arguments args("info", argv, {{"--void-label", "N", "the label of empty space (0..255)"}});
     if (args.positional().size() != 1) throw UsageError("info needs exactly one VOLUME");
     std::optional<Label> voidLabel;
     if (auto v = args.integer("--void-label", 0, 255)) voidLabel = Label(*v);

@@ -63,9 +63,19 @@ std::vector<RGB> loadTargets(const std::string& target, const Predictor& predict
 }  // namespace
 
 int optimizeCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--target", "--iterations", "--spp", "--seed", "--step", "--shell-mm", "--threads", "--integrator",
-                          "--channel-sampling", "--score-radius", "-o"},
-                   {"--no-gamut-map"});
+    Arguments args("optimize", argv,
+                   {{"--target", "MODEL|R,G,B", "the colours to match: a textured .gltf/.glb/.obj or one linear RGB"},
+                    {"--iterations", "N", "loop iterations"},
+                    kSppOption,
+                    kSeedOption,
+                    {"--step", "X", "how far each iteration moves the labels towards the target (0..1]"},
+                    {"--shell-mm", "D", "depth of the shell whose labels change"},
+                    kThreadsOption,
+                    integratorOption(),
+                    kChannelSamplingOption,
+                    {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
+                    {"--no-gamut-map", "", "match the target as given, without mapping it into the printable gamut"},
+                    {"-o,--output", "PREFIX", "outputs PREFIX.csv and PREFIX_labels.vdb"}});
     if (args.positional().size() != 1) throw UsageError("optimize needs exactly one SCENE.json");
     auto target = args.value("--target");
     if (!target) throw UsageError("optimize needs --target MODEL.gltf|.glb|.obj or --target R,G,B (linear)");

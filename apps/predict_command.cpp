@@ -17,7 +17,10 @@
 namespace pl {
 
 int predictCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--iterations", "--changes", "--spp", "--seed", "--threads", "--channel"}, {});
+    Arguments args("predict", argv,
+                   {{"--iterations", "N", "loop iterations (default 5)"},
+                    {"--changes", "K", "surface voxels relabelled per iteration (default 1000)"},
+                    kSppOption, kSeedOption, kThreadsOption, kChannelOption});
     if (args.positional().size() != 1) throw UsageError("predict needs exactly one SCENE.json");
     int iterations = int(args.integer("--iterations", 1, 100000).value_or(5));
     int changesPerIteration = int(args.integer("--changes", 0, 1 << 24).value_or(1000));

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/arguments.h"
+#include "apps/command_options.h"
 #include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
@@ -29,10 +30,28 @@ std::string relativeTo(const std::filesystem::path& target, const std::filesyste
 }  // namespace
 
 int prepareCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv,
-                   {"-o", "--voxel", "--extrude-mm", "--margin-mm", "--materials", "--halftone",
-                    "--scene-out", "--color", "--fill"},
-                   {"--keep-colors", "--quiet"});
+    const PrepareSettings defaults;
+    auto text = [](float x) {
+        std::ostringstream s;
+        s << x;
+        return s.str();
+    };
+    Arguments args("prepare", argv,
+                   {{"-o,--output", "OUT.vdb", "the label grid, with sdf and normal grids (required)"},
+                    {"--voxel", "X,Y,Z",
+                     "voxel size in mm (default the printer's, " + text(defaults.voxel_mm.x) + "," +
+                         text(defaults.voxel_mm.y) + "," + text(defaults.voxel_mm.z) + ")"},
+                    {"--extrude-mm", "D", "depth of the coloured shell (default " + text(defaults.extrude_mm) + ")"},
+                    {"--margin-mm", "M", "void margin around the model (default " + text(defaults.margin_mm) + ")"},
+                    {"--materials", "FILE", "the material table (needed by --scene-out)"},
+                    {"--halftone", "error-diffusion|nearest", "how colours become resin labels"},
+                    {"--fill", "conservative|center", "which voxels the mesh fills"},
+                    {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
+                    {"--keep-colors", "", "also write the colour grid the labels were halftoned from"},
+                    {"--scene-out", "PREFIX", "also write scenes for the result (PREFIX_surface.json, _preview.json)"},
+                    kThreadsOption,
+                    kQuietOption});
+    ThreadLimit threads(args);
     if (args.positional().size() != 1) throw UsageError("prepare needs exactly one MODEL (.gltf, .glb or .obj)");
     if (!args.has("-o")) throw UsageError("prepare needs -o OUT.vdb");
     std::filesystem::path model = args.positional()[0], output = *args.value("-o");
@@ -54,8 +73,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
         if (!(x >= lo && x <= hi)) throw UsageError(std::string(opt) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
         return x;
     };
-    ps.extrude_mm = number("--extrude-mm", 1.0f, 0.0f, 100.0f);
-    ps.margin_mm = number("--margin-mm", 0.12f, 0.0f, 100.0f);
+    ps.extrude_mm = number("--extrude-mm", defaults.extrude_mm, 0.0f, 100.0f);
+    ps.margin_mm = number("--margin-mm", defaults.margin_mm, 0.0f, 100.0f);
     for (int a = 0; a < 3; ++a)
         if (!(ps.voxel_mm[a] >= 1e-4f && ps.voxel_mm[a] <= 10.0f)) throw UsageError("--voxel sizes must be in [0.0001, 10] mm");
     const std::string halftone = args.value("--halftone").value_or("error-diffusion");

@@ -50,7 +50,9 @@ std::string controlSummary(const RenderResult& r) {
 }  // namespace
 
 int renderCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"--spp", "--seed", "--threads", "--channel", "--channel-sampling", "--integrator", "-o"}, {"--quiet"});
+    Arguments args("render", argv,
+                   {kSppOption, kSeedOption, kThreadsOption, kChannelOption, kChannelSamplingOption, integratorOption(),
+                    {"-o,--output", "OUT", "output path without extension (overrides the scene's)"}, kQuietOption});
     if (args.positional().size() != 1) throw UsageError("render needs exactly one SCENE.json");
     auto t0 = std::chrono::steady_clock::now();
 

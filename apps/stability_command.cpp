@@ -61,7 +61,10 @@ std::string markdownTable(const std::vector<StabilityRow>& rows, bool quick, int
 }  // namespace
 
 int stabilityCommand(const std::vector<std::string>& argv) {
-    Arguments args(argv, {"-o", "--seed", "--threads"}, {"--quick"});
+    Arguments args("stability", argv,
+                   {{"-o,--output", "REPORT.md", "the report (default docs/stability.md if ./docs exists, else stability.md)"},
+                    kSeedOption, kThreadsOption,
+                    {"--quick", "", "a shorter suite"}});
     if (!args.positional().empty()) throw UsageError("stability takes no positional arguments");
     bool quick = args.has("--quick");
     uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX).value_or(1));

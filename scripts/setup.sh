@@ -6,7 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
-  cmake make g++ ccache pkg-config
+  cmake make g++ ccache pkg-config libcli11-dev
   libembree-dev libopenvdb-dev libboost-iostreams-dev
   libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev

@@ -3,6 +3,7 @@
 // input writes EXR, PNG and VDB and a summary line; --threads does not
 // change a single bit of the result. (Over 500 lines: one file for every
 // command's end-to-end behaviour, sharing the TestScene fixture.)
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -310,6 +311,44 @@ TEST(Cli, UsageErrorsExitWithTwo) {
     EXPECT_EQ(printlight("render " + s.write().string() + " --spp zero", s.dir).exitCode, 2);
     EXPECT_EQ(printlight("frobnicate", s.dir).exitCode, 2);
     EXPECT_FALSE(s.anyOutput());
+}
+
+// A usage error is one line that names the option and points at the
+// command's help; --help lists every option with what it does.
+TEST(Cli, UsageErrorsAreOneLineAndHelpListsTheOptions) {
+    TestScene s("usage_line");
+    CliRun bad = printlight("render " + s.write().string() + " --sppp 4", s.dir);
+    EXPECT_EQ(bad.exitCode, 2);
+    EXPECT_NE(bad.err.find("--sppp"), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("printlight render --help"), std::string::npos) << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_FALSE(s.anyOutput());
+
+    for (const char* command : {"render", "prepare", "optimize", "predict", "bench", "batch", "stability", "info"}) {
+        CliRun help = printlight(std::string(command) + " --help", s.dir);
+        EXPECT_EQ(help.exitCode, 0) << command << help.err;
+        EXPECT_NE(help.out.find(std::string("printlight ") + command), std::string::npos) << help.out;
+        if (std::string(command) != "info")
+            EXPECT_NE(help.out.find("--threads"), std::string::npos) << command << help.out;
+    }
+    CliRun renderHelp = printlight("render --help", s.dir);
+    EXPECT_NE(renderHelp.out.find("--spp N"), std::string::npos) << renderHelp.out;
+    EXPECT_NE(renderHelp.out.find("samples per pixel"), std::string::npos) << renderHelp.out;
+
+    CliRun list = printlight("--help", s.dir);
+    EXPECT_EQ(list.exitCode, 0);
+    for (const char* command : {"render", "prepare", "optimize", "bench"})
+        EXPECT_NE(list.out.find(std::string("  ") + command + " "), std::string::npos) << list.out;
+}
+
+// --version names the version and the code fingerprint batch records.
+TEST(Cli, VersionNamesTheCodeFingerprint) {
+    TestScene s("version");
+    CliRun r = printlight("--version", s.dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out.rfind("printlight ", 0), 0u) << r.out;
+    EXPECT_NE(r.out.find("(code "), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("unknown"), std::string::npos) << r.out;
 }
 
 TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
