@@ -88,10 +88,15 @@ void setLabels(Predictor& p, Labels3d dense) {
 // model, writes labels, sdf and normal grids to `output`; returns counts.
 py::dict prepare(const std::string& model, const std::string& output, std::array<float, 3> voxel_mm,
                  float extrude_mm, float margin_mm, std::optional<std::array<float, 3>> color,
-                 const std::string& halftone) {
+                 const std::string& halftone, std::optional<std::string> units) {
     if (std::filesystem::path(output).extension() != ".vdb") throw std::invalid_argument("output must be a .vdb file");
     if (halftone != "error-diffusion" && halftone != "nearest")
         throw std::invalid_argument("halftone must be error-diffusion or nearest");
+    MeshPlacement placement;
+    if (units) {
+        placement.unit = parseLengthUnit(*units);
+        if (!placement.unit) throw std::invalid_argument("units must be m, mm or in");
+    }
     refuseToOverwriteInputs(output, {model});
     PrepareSettings settings;
     settings.voxel_mm = {voxel_mm[0], voxel_mm[1], voxel_mm[2]};
@@ -100,7 +105,7 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
     if (color) settings.color = RGB{(*color)[0], (*color)[1], (*color)[2]};
     settings.halftone = halftone == "nearest" ? PrepareSettings::Halftone::Nearest
                                               : PrepareSettings::Halftone::ErrorDiffusion;
-    MeshAsset asset = loadMeshAsset(model);
+    MeshAsset asset = loadMeshAsset(model, placement);
     Geometry geometry(std::move(asset.mesh));
     PreparedModel prepared = prepareModel(geometry, asset.appearance, settings);
     writePreparedVdb(prepared.labels, prepared.fields, output);
@@ -174,6 +179,8 @@ PYBIND11_MODULE(printlight, m) {
     m.def("prepare", &prepare, py::arg("model"), py::arg("output"),
           py::arg("voxel_mm") = std::array<float, 3>{0.0423f, 0.0847f, 0.027f}, py::arg("extrude_mm") = 1.0f,
           py::arg("margin_mm") = 0.12f, py::arg("color") = py::none(), py::arg("halftone") = "error-diffusion",
+          py::arg("units") = py::none(),
           "Voxelises and halftones a closed, textured mesh (.gltf, .glb, .obj) into a prepared .vdb, as "
-          "`printlight prepare` does; returns a dict of counts.");
+          "`printlight prepare` does; units: 'm', 'mm' or 'in' (default: glTF's metres, OBJ's millimetres); "
+          "returns a dict of counts.");
 }

@@ -27,7 +27,8 @@ namespace {
 
 // Per surface voxel: the colour of the textured model at the nearest point
 // of its surface, or one colour for all.
-std::vector<RGB> loadTargets(const std::string& target, const Predictor& predictor,
+// A target model is placed as the scene's mesh is (its unit and scale).
+std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& placement, const Predictor& predictor,
                              const std::vector<Vec3i>& voxels) {
     std::filesystem::path file(target);
     if (!std::filesystem::exists(file)) {
@@ -36,7 +37,7 @@ std::vector<RGB> loadTargets(const std::string& target, const Predictor& predict
             if (!(x >= 0 && x <= 1)) throw UsageError("--target colour components must be in [0, 1] (linear RGB)");
         return std::vector<RGB>(voxels.size(), RGB{c.x, c.y, c.z});
     }
-    MeshAsset asset = loadMeshAsset(file);
+    MeshAsset asset = loadMeshAsset(file, placement);
     if (!asset.appearance.hasColor()) throw InputError(file.string(), "the model has no colours to aim at");
     SurfaceAppearance look = std::move(asset.appearance);
     Geometry geometry(std::move(asset.mesh));
@@ -108,7 +109,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     desc.render.channels = {0, 1, 2};
     Predictor predictor(desc, desc.render);
     const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
-    std::vector<RGB> targets = loadTargets(*target, predictor, voxels);
+    std::vector<RGB> targets = loadTargets(*target, desc.meshPlacement, predictor, voxels);
     std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header = "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels\n";

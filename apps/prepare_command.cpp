@@ -21,6 +21,9 @@ namespace pl {
 
 namespace {
 
+// Larger than any printer's tray: a model this size has the wrong unit.
+constexpr double kLargestTray_mm = 500.0;
+
 std::string relativeTo(const std::filesystem::path& target, const std::filesystem::path& fromDir) {
     return std::filesystem::relative(std::filesystem::absolute(target),
                                      std::filesystem::absolute(fromDir.empty() ? "." : fromDir))
@@ -38,6 +41,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
     };
     Arguments args("prepare", argv,
                    {{"-o,--output", "OUT.vdb", "the label grid, with sdf and normal grids (required)"},
+                    {"--units", "m|mm|in", "the unit of the model's coordinates (default: glTF's metres; OBJ: mm)"},
+                    {"--fit-mm", "L", "scale the model so that its largest side is L mm"},
                     {"--voxel", "X,Y,Z",
                      "voxel size in mm (default the printer's, " + text(defaults.voxel_mm.x) + "," +
                          text(defaults.voxel_mm.y) + "," + text(defaults.voxel_mm.z) + ")"},
@@ -73,6 +78,9 @@ int prepareCommand(const std::vector<std::string>& argv) {
         if (!(x >= lo && x <= hi)) throw UsageError(std::string(opt) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
         return x;
     };
+    if (auto u = args.value("--units"); u && !parseLengthUnit(*u)) throw UsageError("--units must be m, mm or in");
+    std::optional<double> fitMm;
+    if (args.has("--fit-mm")) fitMm = number("--fit-mm", 0.0f, 0.01f, 10000.0f);
     ps.extrude_mm = number("--extrude-mm", defaults.extrude_mm, 0.0f, 100.0f);
     ps.margin_mm = number("--margin-mm", defaults.margin_mm, 0.0f, 100.0f);
     for (int a = 0; a < 3; ++a)
@@ -111,7 +119,32 @@ int prepareCommand(const std::vector<std::string>& argv) {
 
     // The model, then the pipeline (prepare/prepare_model.h).
     auto t0 = std::chrono::steady_clock::now();
-    MeshAsset asset = loadMeshAsset(model);
+    MeshAsset asset = loadMeshAsset(model, MeshPlacement{LengthUnit::Millimetre, 1.0});  // as in the file
+    MeshPlacement placement;
+    if (auto u = args.value("--units")) placement.unit = parseLengthUnit(*u);
+    const FormatUnit formatUnit = formatUnitOf(model);
+    const LengthUnit unit = placement.unit.value_or(formatUnit.unit);
+    Bounds3f fileBounds;
+    for (const Point3f& p : asset.mesh.positions_mm) fileBounds.expand(p);
+    const Vec3f fileExtent = fileBounds.hi - fileBounds.lo;
+    const double largestSide = std::max(fileExtent.x, std::max(fileExtent.y, fileExtent.z)) * millimetresPer(unit);
+    if (fitMm) placement.scale = *fitMm / largestSide;
+    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(model));
+    const double side_mm = largestSide * placement.scale;
+    const double toMm = millimetresPer(unit) * placement.scale;
+    char fitted[96] = "";
+    if (fitMm) std::snprintf(fitted, sizeof fitted, "; --fit-mm: scaled by %.6g", placement.scale);
+    char size[256];
+    std::snprintf(size, sizeof size, "%.4g x %.4g x %.4g mm (coordinates in %s: %s%s)", fileExtent.x * toMm,
+                  fileExtent.y * toMm, fileExtent.z * toMm, lengthUnitName(unit),
+                  placement.unit ? "--units" : formatUnit.why, fitted);
+    // Before the long part, where someone watches (the summary repeats it).
+    if (ps.showProgress) std::fprintf(stderr, "prepare: %s: %s\n", model.string().c_str(), size);
+    if (side_mm < 1.0)
+        std::fprintf(stderr, "printlight: warning: the model is %.3g mm across: is its unit right? (--units, --fit-mm)\n", side_mm);
+    if (side_mm > kLargestTray_mm)
+        std::fprintf(stderr, "printlight: warning: the model is %.4g mm across, more than a printer's tray (%.0f mm): is its unit right? (--units, --fit-mm)\n",
+                     side_mm, kLargestTray_mm);
     Geometry geometry(std::move(asset.mesh));
     const TriangleMesh& mesh = geometry.mesh();
     double tLoad = secondsSince(t0);
@@ -135,9 +168,11 @@ int prepareCommand(const std::vector<std::string>& argv) {
         Point3f c = (b.lo + b.hi) * 0.5f;
         float size = length(b.hi - b.lo);
         nlohmann::json object = {{"mesh", relativeTo(model, dir)},
+                                 {"mesh_units", lengthUnitName(unit)},
                                  {"labels", relativeTo(output, dir)},
                                  {"materials", relativeTo(*materialsFile, dir)},
                                  {"ior", 1.5}};
+        if (placement.scale != 1.0) object["mesh_scale"] = placement.scale;
         std::string stem = sceneOut->filename().string();
         nlohmann::json surface = {{"object", object},
                                   {"environment", {{"radiance", {1, 1, 1}}}},
@@ -165,8 +200,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
     auto hist = grid.histogram();
     size_t surfaceVoxels = grid.surfaceVoxels().size();
     double dense = double(f.voxelCount()) * 16.0;
-    std::printf("prepare: %s: %zu triangles, colour from %s\n", model.string().c_str(), mesh.triangleCount(),
-                prepared.colorSource.c_str());
+    std::printf("prepare: %s: %s\n", model.string().c_str(), size);
+    std::printf("  model:     %zu triangles, colour from %s\n", mesh.triangleCount(), prepared.colorSource.c_str());
     std::printf("  grid:      %d x %d x %d = %llu voxels of %.4g x %.4g x %.4g mm\n", r.x, r.y, r.z,
                 (unsigned long long)f.voxelCount(), f.voxelSize_mm.x, f.voxelSize_mm.y, f.voxelSize_mm.z);
     std::printf("  voxels:    %llu inside (centre), %llu printed (%s fill), %zu surface, %llu in the colour shell (%.2f mm), %llu in the distance band\n",

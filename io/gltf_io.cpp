@@ -293,9 +293,14 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
         return int(accessors.size()) - 1;
     };
     size_t n = mesh.positions_mm.size();
+    std::vector<Point3f> positions_m;
+    positions_m.reserve(n);
     Bounds3f b;
-    for (const Point3f& p : mesh.positions_mm) b.expand(p);
-    attributes["POSITION"] = addView(mesh.positions_mm.data(), n * 12, n, 5126, "VEC3", 34962);
+    for (const Point3f& p : mesh.positions_mm) {
+        positions_m.emplace_back(float(double(p.x) / 1000.0), float(double(p.y) / 1000.0), float(double(p.z) / 1000.0));
+        b.expand(positions_m.back());
+    }
+    attributes["POSITION"] = addView(positions_m.data(), n * 12, n, 5126, "VEC3", 34962);
     accessors.back()["min"] = {b.lo.x, b.lo.y, b.lo.z};
     accessors.back()["max"] = {b.hi.x, b.hi.y, b.hi.z};
     if (!look.uvs.empty()) attributes["TEXCOORD_0"] = addView(look.uvs.data(), n * 8, n, 5126, "VEC2", 34962);

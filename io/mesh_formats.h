@@ -1,5 +1,6 @@
 // The mesh formats behind loadMeshAsset (io/mesh_io.h), one file each:
-// they read the triangles and colours; loadMeshAsset checks the surface.
+// they read the triangles and colours, coordinates in the file's unit;
+// loadMeshAsset converts them to millimetres and checks the surface.
 #pragma once
 
 #include <filesystem>

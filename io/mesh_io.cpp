@@ -52,12 +52,19 @@ void validateClosedMesh(TriangleMesh& mesh, const std::string& file) {
             std::swap(mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]);
 }
 
-MeshAsset loadMeshAsset(const std::filesystem::path& file) {
+void scaleMesh(TriangleMesh& mesh, double factor) {
+    if (factor == 1.0) return;
+    for (Point3f& p : mesh.positions_mm)
+        p = Point3f(float(double(p.x) * factor), float(double(p.y) * factor), float(double(p.z) * factor));
+}
+
+MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement) {
     std::string ext = lowerExtension(file);
     MeshAsset asset;
     if (ext == ".obj") asset = loadObj(file);
     else if (ext == ".gltf" || ext == ".glb") asset = loadGltf(file);
     else throw InputError(file.string(), "unknown mesh format (expected .obj, .gltf or .glb)");
+    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(file));
     validateClosedMesh(asset.mesh, file.string());
     return asset;
 }

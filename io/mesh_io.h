@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/geometry.h"
+#include "io/length_units.h"
 #include "prepare/surface_appearance.h"
 
 namespace pl {
@@ -16,8 +17,14 @@ struct MeshAsset {
     SurfaceAppearance appearance;  // colours, if the file has any
 };
 
-MeshAsset loadMeshAsset(const std::filesystem::path& file);
-inline TriangleMesh loadMesh(const std::filesystem::path& file) { return loadMeshAsset(file).mesh; }
+// The model in millimetres, placed by `placement` (its file's unit and a scale).
+MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement = {});
+// Multiplies every position by millimetresPerFileUnit (in double, rounded
+// once): what loadMeshAsset does with the placement's factor.
+void scaleMesh(TriangleMesh& mesh, double millimetresPerFileUnit);
+inline TriangleMesh loadMesh(const std::filesystem::path& file, const MeshPlacement& placement = {}) {
+    return loadMeshAsset(file, placement).mesh;
+}
 
 // Throws InputError(file, ...) unless every edge is shared by exactly two
 // triangles with opposite orientation. Flips the winding if the enclosed
@@ -27,7 +34,8 @@ void validateClosedMesh(TriangleMesh& mesh, const std::string& file);
 // Writes a Wavefront OBJ (positions and triangles).
 void writeObj(const TriangleMesh& mesh, const std::filesystem::path& file);
 
-// Writes a glTF 2.0 file (.gltf with the buffer embedded) with optional UVs,
+// Writes a glTF 2.0 file (.gltf with the buffer embedded; coordinates in
+// metres, as glTF says, from the mesh's millimetres) with optional UVs,
 // vertex colours (linear) and a base-colour texture referenced by a relative
 // path (an sRGB PNG beside the file).
 void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& appearance,

@@ -52,8 +52,16 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
 
     // object
     const auto& obj = json.object(root, "object", "");
-    json.expectOnlyKeys(obj, "object", {"mesh", "labels", "materials", "ior", "void_label"});
+    json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "labels", "materials", "ior", "void_label"});
     d.meshFile = dir / json.string(obj, "mesh", "object");
+    if (obj.contains("mesh_units")) {
+        const std::string unit = json.string(obj, "mesh_units", "object");
+        d.meshPlacement.unit = parseLengthUnit(unit);
+        if (!d.meshPlacement.unit) json.fail("object.mesh_units", "must be m, mm or in");
+    }
+    d.meshPlacement.scale = json.number(obj, "mesh_scale", "object", 1.0);
+    if (!(d.meshPlacement.scale > 0 && std::isfinite(d.meshPlacement.scale)))
+        json.fail("object.mesh_scale", "must be a positive number");
     d.labelsFile = dir / json.string(obj, "labels", "object");
     d.materialsFile = dir / json.string(obj, "materials", "object");
     d.ior = float(json.number(obj, "ior", "object", 1.5));
@@ -184,7 +192,7 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     Scene scene;
     scene.ior = d.ior;
     scene.environment = d.environment;
-    TriangleMesh mesh = loadMesh(d.meshFile);
+    TriangleMesh mesh = loadMesh(d.meshFile, d.meshPlacement);
     MaterialTable materials = loadMaterials(d.materialsFile);
     LabelGrid grid = loadLabelGrid(d.labelsFile, d.voidLabel);
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/sensors.h"
+#include "io/length_units.h"
 #include "scene/render.h"
 #include "scene/scene.h"
 
@@ -26,6 +27,7 @@ struct SensorDescription {
 struct SceneDescription {
     std::filesystem::path sceneFile;
     std::filesystem::path meshFile, labelsFile, materialsFile;
+    MeshPlacement meshPlacement;  // the mesh file's unit and scale
     std::optional<Label> voidLabel;
     float ior = 1.5f;
     RGB environment{1, 1, 1};

@@ -351,6 +351,46 @@ TEST(Cli, VersionNamesTheCodeFingerprint) {
     EXPECT_EQ(r.out.find("unknown"), std::string::npos) << r.out;
 }
 
+// glTF coordinates are metres (its specification): prepare reads them so,
+// says the model's size and unit, warns when the size looks like the wrong
+// unit, scales to a print size with --fit-mm, and the scenes it writes
+// place the mesh the same way (the render finds mesh and grid together).
+TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
+    TestScene s("units");
+    writeGltf(test::boxMesh({0, 0, 0}, {2, 2, 2}), SurfaceAppearance{}, "", s.dir / "box.gltf");
+    const std::string prepare = "prepare " + (s.dir / "box.gltf").string() + " --voxel 0.1,0.1,0.1 ";
+    CliRun r = printlight(prepare + "-o " + (s.dir / "box.vdb").string(), s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("2 x 2 x 2 mm (coordinates in m: glTF coordinates are metres)"), std::string::npos) << r.out;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+
+    r = printlight(prepare + "--units mm -o " + (s.dir / "tiny.vdb").string(), s.dir);
+    EXPECT_NE(r.err.find("warning: the model is 0.002 mm across: is its unit right?"), std::string::npos) << r.err;
+
+    r = printlight(prepare + "--units ft -o " + (s.dir / "ft.vdb").string(), s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("--units must be m, mm or in"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s.dir / "ft.vdb"));
+
+    r = printlight(prepare + "--fit-mm 4 --materials " + (s.dir / "materials.json").string() + " --scene-out " + (s.dir / "fit").string() + " -o " +
+                       (s.dir / "fit.vdb").string(),
+                   s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("4 x 4 x 4 mm (coordinates in m: glTF coordinates are metres; --fit-mm: scaled by 2)"),
+              std::string::npos)
+        << r.out;
+    const nlohmann::json scene = nlohmann::json::parse(readText(s.dir / "fit_surface.json"));
+    EXPECT_EQ(scene["object"]["mesh_units"], "m");
+    EXPECT_NEAR(scene["object"]["mesh_scale"].get<double>(), 2.0, 1e-6);
+    r = printlight("render " + (s.dir / "fit_surface.json").string() + " --spp 1 -o " + (s.dir / "fit_render").string(),
+                   s.dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+
+    // The scene key: a unit that does not exist is named.
+    s.scene["object"]["mesh_units"] = "ft";
+    expectCleanFailure(s, s.render(), "scene.json", "object.mesh_units");
+}
+
 TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     TestScene s("bench");
     fs::path scene = s.write();

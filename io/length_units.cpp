@@ -1,0 +1,38 @@
+#include "io/length_units.h"
+
+#include "io/file_names.h"
+
+namespace pl {
+
+std::optional<LengthUnit> parseLengthUnit(const std::string& name) {
+    if (name == "m") return LengthUnit::Metre;
+    if (name == "mm") return LengthUnit::Millimetre;
+    if (name == "in") return LengthUnit::Inch;
+    return std::nullopt;
+}
+
+const char* lengthUnitName(LengthUnit unit) {
+    switch (unit) {
+        case LengthUnit::Metre: return "m";
+        case LengthUnit::Millimetre: return "mm";
+        case LengthUnit::Inch: return "in";
+    }
+    return "?";
+}
+
+double millimetresPer(LengthUnit unit) {
+    switch (unit) {
+        case LengthUnit::Metre: return 1000.0;
+        case LengthUnit::Millimetre: return 1.0;
+        case LengthUnit::Inch: return 25.4;
+    }
+    return 1.0;
+}
+
+FormatUnit formatUnitOf(const std::filesystem::path& meshFile) {
+    const std::string ext = lowerExtension(meshFile);
+    if (ext == ".gltf" || ext == ".glb") return {LengthUnit::Metre, "glTF coordinates are metres"};
+    return {LengthUnit::Millimetre, "the format has no unit; taken as millimetres"};
+}
+
+}  // namespace pl

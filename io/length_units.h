@@ -1,0 +1,36 @@
+// The length unit a mesh file's coordinates are in. printlight works in
+// millimetres; glTF 2.0 says its coordinates are metres, OBJ and STL say
+// nothing (3D printing takes them as millimetres).
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace pl {
+
+enum class LengthUnit { Metre, Millimetre, Inch };
+
+// "m", "mm" or "in"; none otherwise.
+std::optional<LengthUnit> parseLengthUnit(const std::string& name);
+const char* lengthUnitName(LengthUnit unit);  // "m", "mm", "in"
+double millimetresPer(LengthUnit unit);
+
+// What a mesh file's format says (or is taken to say) of its unit, and why.
+struct FormatUnit {
+    LengthUnit unit;
+    const char* why;  // e.g. "glTF coordinates are metres"
+};
+FormatUnit formatUnitOf(const std::filesystem::path& meshFile);
+
+// How a mesh is placed in printlight's millimetres: its file's unit (none:
+// its format's) and a uniform scale after that (prepare's --fit-mm).
+struct MeshPlacement {
+    std::optional<LengthUnit> unit;
+    double scale = 1.0;
+    double millimetresPerFileUnit(const std::filesystem::path& meshFile) const {
+        return millimetresPer(unit ? *unit : formatUnitOf(meshFile).unit) * scale;
+    }
+};
+
+}  // namespace pl
