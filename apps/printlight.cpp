@@ -13,7 +13,7 @@ const std::vector<Command>& commands() {
     static const std::vector<Command> table = {
         {"render", "SCENE.json", "the scene file (docs/scene-format.md)",
          "renders a scene: OUT.exr, OUT.png and, for the surface-voxel sensor, OUT.vdb", renderCommand},
-        {"prepare", "MODEL", "a .gltf, .glb or .obj model",
+        {"prepare", "MODEL", "a .gltf, .glb, .obj, .stl, .ply or .3mf model",
          "voxelises a textured mesh into labels, sdf and normal grids", prepareCommand},
         {"optimize", "SCENE.json", "the scene file of the object to print",
          "compensation loop on the surface shell: CIEDE2000 per iteration, PREFIX.csv, PREFIX_labels.vdb",

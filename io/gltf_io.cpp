@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <map>
 #include <unordered_map>
 
@@ -18,6 +19,29 @@
 namespace pl {
 
 namespace {
+
+// glTF 1.0: a binary container of version 1, or JSON whose asset version
+// is 1.x or whose top-level collections are dictionaries (glTF 2.0 has
+// arrays). tinygltf reads 2.0 only and would give a parser's message.
+bool isGltf1(const std::filesystem::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    char head[8] = {};
+    in.read(head, sizeof head);
+    if (std::memcmp(head, "glTF", 4) == 0) {
+        uint32_t version = 0;
+        std::memcpy(&version, head + 4, 4);
+        return version == 1;
+    }
+    in.seekg(0);
+    const nlohmann::json json = nlohmann::json::parse(in, nullptr, false);
+    if (!json.is_object()) return false;
+    if (json.contains("asset") && json["asset"].is_object() && json["asset"].contains("version") &&
+        json["asset"]["version"].is_string() && json["asset"]["version"].get<std::string>().rfind("1", 0) == 0)
+        return true;
+    for (const char* collection : {"meshes", "accessors", "nodes"})
+        if (json.contains(collection) && json[collection].is_object()) return true;
+    return false;
+}
 
 // Reads an accessor as floats, `components` per element; integer types are
 // normalised to [0, 1] (glTF's normalized colours and texture coordinates).
@@ -198,6 +222,7 @@ Texture textureFromGltfImage(const tinygltf::Image& im, const std::string& name)
 MeshAsset loadGltf(const std::filesystem::path& file) {
     const std::string name = file.string();
     if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");
+    if (isGltf1(file)) throw InputError(name, "glTF 1.0 is not supported (only glTF 2.0; convert it, e.g. with Blender)");
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;

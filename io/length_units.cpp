@@ -32,6 +32,7 @@ double millimetresPer(LengthUnit unit) {
 FormatUnit formatUnitOf(const std::filesystem::path& meshFile) {
     const std::string ext = lowerExtension(meshFile);
     if (ext == ".gltf" || ext == ".glb") return {LengthUnit::Metre, "glTF coordinates are metres"};
+    if (ext == ".3mf") return {LengthUnit::Millimetre, "3MF's default unit (the file's unit attribute is not read)"};
     return {LengthUnit::Millimetre, "the format has no unit; taken as millimetres"};
 }
 

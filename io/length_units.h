@@ -1,6 +1,7 @@
 // The length unit a mesh file's coordinates are in. printlight works in
-// millimetres; glTF 2.0 says its coordinates are metres, OBJ and STL say
-// nothing (3D printing takes them as millimetres).
+// millimetres; glTF 2.0 says its coordinates are metres, 3MF defaults to
+// millimetres, OBJ, STL and PLY say nothing (3D printing takes them as
+// millimetres).
 #pragma once
 
 #include <filesystem>

@@ -13,5 +13,8 @@ namespace pl {
 MeshAsset loadObj(const std::filesystem::path& file);
 // glTF 2.0, .gltf or .glb, through tinygltf (io/gltf_io.cpp).
 MeshAsset loadGltf(const std::filesystem::path& file);
+// STL (binary and ASCII), PLY and 3MF, through Assimp (io/assimp_io.cpp):
+// triangles, vertex colours (PLY) and 3MF's material colours.
+MeshAsset loadWithAssimp(const std::filesystem::path& file);
 
 }  // namespace pl

@@ -63,7 +63,8 @@ MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& 
     MeshAsset asset;
     if (ext == ".obj") asset = loadObj(file);
     else if (ext == ".gltf" || ext == ".glb") asset = loadGltf(file);
-    else throw InputError(file.string(), "unknown mesh format (expected .obj, .gltf or .glb)");
+    else if (ext == ".stl" || ext == ".ply" || ext == ".3mf") asset = loadWithAssimp(file);
+    else throw InputError(file.string(), "unknown mesh format (expected .gltf, .glb, .obj, .stl, .ply or .3mf)");
     scaleMesh(asset.mesh, placement.millimetresPerFileUnit(file));
     validateClosedMesh(asset.mesh, file.string());
     return asset;

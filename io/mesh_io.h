@@ -1,5 +1,6 @@
-// Triangle meshes from glTF 2.0 (.gltf/.glb, through tinygltf) and OBJ
-// (with .mtl base colours and map_Kd textures). The object must be one
+// Triangle meshes from glTF 2.0 (.gltf/.glb, through tinygltf), OBJ (with
+// .mtl base colours and map_Kd textures), and STL, PLY and 3MF (through
+// Assimp; io/mesh_formats.h), in millimetres. The object must be one
 // closed, consistently oriented surface; it is re-oriented so that its
 // normals point outwards.
 #pragma once

@@ -98,8 +98,13 @@ MeshAsset loadObj(const std::filesystem::path& file) {
         } else if (tag == "usemtl") {
             std::string m;
             ls >> m;
+            // A name the .mtl does not define (exporters write "None" or
+            // "Default") is white, as other OBJ readers take it.
             auto it = materials.index.find(m);
-            if (it == materials.index.end()) bad("unknown material '" + m + "'");
+            if (it == materials.index.end()) {
+                it = materials.index.emplace(m, uint32_t(look.materials.size())).first;
+                look.materials.push_back({});
+            }
             currentMaterial = it->second;
         } else if (tag == "f") {
             std::vector<uint32_t> poly;

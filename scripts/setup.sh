@@ -10,7 +10,8 @@ packages=(
   libembree-dev libopenvdb-dev libboost-iostreams-dev
   libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
-  pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev
+  pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev libassimp-dev
+  assimp-testmodels
 )
 missing=()
 for p in "${packages[@]}"; do

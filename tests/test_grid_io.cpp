@@ -126,6 +126,68 @@ TEST(MeshIo, ObjAndGltfCubesAgree) {
     EXPECT_FLOAT_EQ(b.intersect(r)->ng.z, -1.0f);  // outward normal of the bottom face
 }
 
+// STL (ASCII and binary, each facet with its own vertices) and PLY (shared
+// vertices with colours) read through Assimp into the same closed box; a
+// glTF 1.0 file is named as such.
+TEST(MeshIo, StlAndPlyBoxesAndGltf1) {
+    auto dir = test::freshTempDir("mesh_io_formats");
+    const TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 2, 3});
+    std::ostringstream ascii;
+    std::string binary(80, ' ');
+    auto put = [&](const void* p, size_t n) { binary.append(static_cast<const char*>(p), n); };
+    const uint32_t count = uint32_t(box.triangleCount());
+    put(&count, 4);
+    ascii << "solid box\n";
+    for (size_t t = 0; t < box.triangleCount(); ++t) {
+        const float normal[3] = {0, 0, 0};
+        put(normal, 12);
+        ascii << " facet normal 0 0 0\n  outer loop\n";
+        for (int k = 0; k < 3; ++k) {
+            const Point3f& p = box.positions_mm[box.indices[3 * t + k]];
+            const float xyz[3] = {p.x, p.y, p.z};
+            put(xyz, 12);
+            ascii << "   vertex " << p.x << " " << p.y << " " << p.z << "\n";
+        }
+        ascii << "  endloop\n endfacet\n";
+        const uint16_t attribute = 0;
+        put(&attribute, 2);
+    }
+    ascii << "endsolid box\n";
+    writeBytes(dir / "ascii.stl", ascii.str());
+    writeBytes(dir / "binary.stl", binary);
+    std::ostringstream ply;
+    ply << "ply\nformat ascii 1.0\nelement vertex " << box.positions_mm.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nproperty uchar red\nproperty uchar green\n"
+           "property uchar blue\nelement face "
+        << box.triangleCount() << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const Point3f& p : box.positions_mm) ply << p.x << " " << p.y << " " << p.z << " 255 0 0\n";
+    for (size_t t = 0; t < box.triangleCount(); ++t)
+        ply << "3 " << box.indices[3 * t] << " " << box.indices[3 * t + 1] << " " << box.indices[3 * t + 2] << "\n";
+    writeBytes(dir / "box.ply", ply.str());
+
+    for (const char* name : {"ascii.stl", "binary.stl", "box.ply"}) {
+        MeshAsset asset = loadMeshAsset(dir / name);
+        EXPECT_EQ(asset.mesh.triangleCount(), 12u) << name;
+        EXPECT_EQ(asset.mesh.positions_mm.size(), 8u) << name << ": vertices welded";
+        Geometry g(std::move(asset.mesh));
+        EXPECT_EQ(g.bounds().hi.z, 3.0f) << name;
+        auto hit = g.intersect({{0.5f, 1, -1}, {0, 0, 1}});
+        ASSERT_TRUE(hit) << name;
+        EXPECT_FLOAT_EQ(hit->ng.z, -1.0f) << name;
+        if (std::string(name) == "box.ply") {
+            ASSERT_EQ(asset.appearance.vertexColors.size(), 8u);
+            EXPECT_FLOAT_EQ(asset.appearance.vertexColors[0][0], 1.0f);
+            EXPECT_FLOAT_EQ(asset.appearance.vertexColors[0][1], 0.0f);
+        }
+    }
+    writeBytes(dir / "broken.stl", "solid x\n facet normal 0 0 1\n");
+    expectInputError([&] { loadMesh(dir / "broken.stl"); }, "broken.stl");
+    writeBytes(dir / "v1.gltf", R"({"asset": {"version": "1.0"}, "meshes": {"m": {}}})");
+    expectInputError([&] { loadMesh(dir / "v1.gltf"); }, "glTF 1.0 is not supported");
+    writeBytes(dir / "v1.glb", std::string("glTF\x01\0\0\0\x14\0\0\0", 12) + std::string(8, '\0'));
+    expectInputError([&] { loadMesh(dir / "v1.glb"); }, "glTF 1.0 is not supported");
+}
+
 TEST(MeshIo, OpenAndInvertedMeshes) {
     auto dir = test::freshTempDir("mesh_io");
     TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 2, 3});
