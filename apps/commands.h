@@ -16,6 +16,7 @@ int batchCommand(const std::vector<std::string>& args);
 int stabilityCommand(const std::vector<std::string>& args);
 int predictCommand(const std::vector<std::string>& args);
 int optimizeCommand(const std::vector<std::string>& args);
+int reportCommand(const std::vector<std::string>& args);
 
 struct Command {
     const char* name;

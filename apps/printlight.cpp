@@ -26,6 +26,8 @@ const std::vector<Command>& commands() {
          "renders every scene of a manifest; with --compare, checks each against stored results", batchCommand},
         {"stability", "", "", "numerical stability suite (stiff and extreme cases); writes a report",
          stabilityCommand},
+        {"report", "MODEL.glb", "glTF binaries: a prediction (render's OUT.glb), a target, an error map",
+         "a self-contained HTML page: the models on rotating views, an optimisation's history", reportCommand},
         {"info", "VOLUME", "a label grid (.vdb, .bin, .gz, .vol)", "describes a label grid", infoCommand},
     };
     return table;

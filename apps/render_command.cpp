@@ -10,6 +10,7 @@
 #include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
+#include "io/mesh_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 #include "scene/scene_io.h"
@@ -20,7 +21,7 @@ namespace {
 
 std::filesystem::path outputBase(std::filesystem::path p) {
     std::string ext = p.extension().string();
-    if (ext == ".exr" || ext == ".png" || ext == ".vdb") p.replace_extension();
+    if (ext == ".exr" || ext == ".png" || ext == ".vdb" || ext == ".glb") p.replace_extension();
     return p;
 }
 
@@ -65,7 +66,10 @@ int renderCommand(const std::vector<std::string>& argv) {
     std::filesystem::path base = outputBase(desc.output);
     bool surface = desc.sensor.type == "surface_voxels";
     std::vector<std::filesystem::path> outputs = {base.string() + ".exr", base.string() + ".png"};
-    if (surface) outputs.push_back(base.string() + ".vdb");
+    if (surface) {
+        outputs.push_back(base.string() + ".vdb");
+        outputs.push_back(base.string() + ".glb");
+    }
     for (const auto& o : outputs) refuseToOverwriteInputs(o, desc.inputFiles());
 
     bool quiet = args.has("--quiet");
@@ -109,6 +113,18 @@ int renderCommand(const std::vector<std::string>& argv) {
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
         writeSurfaceResultVdb(scene.worldFrame(), voxels, result.film, outputs[2]);
+        // The prediction on the model, over the voxels' patches (made here
+        // for the ray footprint, which renders without them).
+        const auto& surfaceSensor = static_cast<const SurfaceVoxelSensor&>(*sensor);
+        std::unique_ptr<SurfacePatches> ownPatches;
+        const SurfacePatches* patches = surfaceSensor.patches();
+        if (!patches) {
+            ownPatches = std::make_unique<SurfacePatches>(scene.geometry->mesh(), scene.worldFrame(), voxels);
+            patches = ownPatches.get();
+        }
+        std::vector<RGB> colors(voxels.size());
+        for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
+        writePredictionGlb(*patches, colors, outputs[3]);
     }
     if (result.stats.trapped)
         std::fprintf(stderr, "printlight: warning: %s paths were trapped (over %lld boundary events without scattering)\n",
@@ -133,7 +149,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                 withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
                 siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(),
-                threads.count, (base.string() + (surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
+                threads.count, (base.string() + (surface ? ".{exr,png,vdb,glb}" : ".{exr,png}")).c_str());
     return 0;
 }
 

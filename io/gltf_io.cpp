@@ -304,10 +304,24 @@ void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
 }
 }  // namespace
 
-void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const std::string& textureUri,
-               const std::filesystem::path& file) {
+namespace {
+
+// A glTF document of one mesh (positions in metres, as glTF says, from
+// millimetres; UVs and linear vertex colours where the appearance has
+// them, as floats or, compactly, as normalised 16-bit RGBA; no index
+// buffer where the mesh has no indices) and its binary buffer.
+struct GltfDocument {
+    nlohmann::json gltf;
+    std::vector<unsigned char> buffer;
+};
+
+enum class ColorEncoding { Float, Unorm16 };
+
+GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& look,
+                          ColorEncoding colors = ColorEncoding::Float) {
     using nlohmann::json;
-    std::vector<unsigned char> buf;
+    GltfDocument doc;
+    std::vector<unsigned char>& buf = doc.buffer;
     json views = json::array(), accessors = json::array(), attributes = json::object();
     auto addView = [&](const void* data, size_t bytes, size_t count, int componentType, const char* type,
                        int target) {
@@ -329,17 +343,39 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
     accessors.back()["min"] = {b.lo.x, b.lo.y, b.lo.z};
     accessors.back()["max"] = {b.hi.x, b.hi.y, b.hi.z};
     if (!look.uvs.empty()) attributes["TEXCOORD_0"] = addView(look.uvs.data(), n * 8, n, 5126, "VEC2", 34962);
-    if (!look.vertexColors.empty()) attributes["COLOR_0"] = addView(look.vertexColors.data(), n * 12, n, 5126, "VEC3", 34962);
-    int indices = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
+    if (!look.vertexColors.empty() && colors == ColorEncoding::Float)
+        attributes["COLOR_0"] = addView(look.vertexColors.data(), n * 12, n, 5126, "VEC3", 34962);
+    if (!look.vertexColors.empty() && colors == ColorEncoding::Unorm16) {
+        std::vector<uint16_t> rgba(4 * n, 65535);
+        for (size_t v = 0; v < n; ++v)
+            for (int c = 0; c < 3; ++c)
+                rgba[4 * v + size_t(c)] =
+                    uint16_t(std::lround(65535.0f * std::min(std::max(look.vertexColors[v][c], 0.0f), 1.0f)));
+        attributes["COLOR_0"] = addView(rgba.data(), n * 8, n, 5123, "VEC4", 34962);
+        accessors.back()["normalized"] = true;
+    }
+    json primitive = {{"attributes", attributes}, {"mode", 4}};
+    if (!mesh.indices.empty())
+        primitive["indices"] = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
+    doc.gltf = {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
+                {"scene", 0},
+                {"scenes", {{{"nodes", {0}}}}},
+                {"nodes", {{{"mesh", 0}}}},
+                {"bufferViews", views},
+                {"accessors", accessors},
+                {"meshes", {{{"primitives", {primitive}}}}}};
+    return doc;
+}
 
-    json primitive = {{"attributes", attributes}, {"indices", indices}, {"mode", 4}};
-    json gltf = {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
-                 {"scene", 0},
-                 {"scenes", {{{"nodes", {0}}}}},
-                 {"nodes", {{{"mesh", 0}}}},
-                 {"bufferViews", views},
-                 {"accessors", accessors},
-                 {"buffers", {{{"byteLength", buf.size()}, {"uri", "data:application/octet-stream;base64," + base64(buf)}}}}};
+}  // namespace
+
+void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const std::string& textureUri,
+               const std::filesystem::path& file) {
+    using nlohmann::json;
+    GltfDocument doc = meshDocument(mesh, look);
+    json& gltf = doc.gltf;
+    gltf["buffers"] = {{{"byteLength", doc.buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(doc.buffer)}}};
+    json& primitive = gltf["meshes"][0]["primitives"][0];
     if (!textureUri.empty() || !look.materials.empty()) {
         RGB f = look.materials.empty() ? RGB{1, 1, 1} : look.materials[0].baseColorFactor;
         json pbr = {{"baseColorFactor", {f[0], f[1], f[2], 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}};
@@ -351,8 +387,51 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
         gltf["materials"] = {{{"pbrMetallicRoughness", pbr}}};
         primitive["material"] = 0;
     }
-    gltf["meshes"] = {{{"primitives", {primitive}}}};
     writeTextFile(file, gltf.dump(1) + "\n");
+}
+
+void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
+                        const std::filesystem::path& file) {
+    using nlohmann::json;
+    // Each piece with its own three vertices (no index buffer), coloured by its voxel.
+    TriangleMesh mesh;
+    SurfaceAppearance look;
+    for (size_t pixel = 0; pixel < linearColor.size(); ++pixel)
+        for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
+            for (const Point3f& v : {p->a, p->b, p->c}) {
+                mesh.positions_mm.push_back(v);
+                look.vertexColors.push_back(linearColor[pixel]);
+            }
+    GltfDocument doc = meshDocument(mesh, look, ColorEncoding::Unorm16);
+    json& gltf = doc.gltf;
+    // Unlit: the colours are the radiance leaving the surface already; a
+    // viewer's own lights must not shade them again.
+    gltf["extensionsUsed"] = {"KHR_materials_unlit"};
+    gltf["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+                          {"extensions", {{"KHR_materials_unlit", json::object()}}}}};
+    gltf["meshes"][0]["primitives"][0]["material"] = 0;
+    gltf["buffers"] = {{{"byteLength", doc.buffer.size()}}};
+    // The binary container: header, JSON chunk (space-padded), BIN chunk.
+    std::string text = gltf.dump();
+    while (text.size() % 4) text.push_back(' ');
+    auto u32 = [](std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+    std::string glb;
+    u32(glb, 0x46546C67);  // "glTF"
+    u32(glb, 2);
+    u32(glb, uint32_t(12 + 8 + text.size() + 8 + doc.buffer.size()));
+    u32(glb, uint32_t(text.size()));
+    u32(glb, 0x4E4F534A);  // "JSON"
+    glb += text;
+    u32(glb, uint32_t(doc.buffer.size()));
+    u32(glb, 0x004E4942);  // "BIN"
+    glb.append(reinterpret_cast<const char*>(doc.buffer.data()), doc.buffer.size());
+    OutputFile out(file);
+    {
+        std::ofstream f(out.tempPath(), std::ios::binary);
+        f.write(glb.data(), std::streamsize(glb.size()));
+        if (!f) throw std::runtime_error("cannot write " + file.string());
+    }
+    out.commit();
 }
 
 }  // namespace pl

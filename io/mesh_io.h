@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/geometry.h"
+#include "core/surface_patches.h"
 #include "io/length_units.h"
 #include "prepare/surface_appearance.h"
 
@@ -41,5 +42,12 @@ void writeObj(const TriangleMesh& mesh, const std::filesystem::path& file);
 // path (an sRGB PNG beside the file).
 void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& appearance,
                const std::string& textureUri, const std::filesystem::path& file);
+
+// The prediction on the model, as a glTF binary any viewer opens: the
+// surface-voxel sensor's patches, each piece coloured with its voxel's
+// predicted radiance (linear RGB, clamped to [0, 1], as vertex colours)
+// under an unlit material.
+void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
+                        const std::filesystem::path& file);
 
 }  // namespace pl

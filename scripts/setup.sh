@@ -11,8 +11,11 @@ packages=(
   libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
   pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev libassimp-dev
-  assimp-testmodels
+  assimp-testmodels chromium
 )
+# The report viewer's scripts come from the npm registry (web/package.json);
+# Debian's nodejs and npm where the machine has no npm.
+command -v npm >/dev/null || packages+=(nodejs npm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -23,6 +26,12 @@ if ((${#missing[@]})); then
   [ "$(id -u)" -eq 0 ] || sudo="sudo"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# three.js and esbuild for the HTML report, as web/package-lock.json pins them.
+if [ ! -x web/node_modules/.bin/esbuild ] || [ web/package-lock.json -nt web/node_modules/.package-lock.json ]; then
+  echo "setup: npm ci in web/"
+  (cd web && npm ci --no-audit --no-fund --loglevel=error >/dev/null)
 fi
 
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null

@@ -391,6 +391,69 @@ TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
     expectCleanFailure(s, s.render(), "scene.json", "object.mesh_units");
 }
 
+// The prediction on the model: render writes OUT.glb (the patches coloured
+// with their voxels' radiance, unlit), report makes a self-contained page
+// of it, and headless Chromium (Debian's, which setup installs) shows the
+// model: a screenshot whose view holds the cube in the colour predicted.
+TEST(Cli, ReportShowsThePredictionOnTheModelInChromium) {
+    const char* chromium = "/usr/bin/chromium";
+    if (!fs::exists(chromium)) GTEST_SKIP() << "no " << chromium << " (scripts/setup.sh installs it)";
+    TestScene s("report");
+    CliRun r = s.render("--spp 4");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const fs::path glb = s.out().string() + ".glb", html = s.dir / "report.html", shot = s.dir / "shot.png";
+    ASSERT_TRUE(fs::exists(glb));
+    const RadianceImage image = readExr(s.out().string() + ".exr");
+    r = printlight("report " + glb.string() + " --labels prediction --title cube -o " + html.string(), s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(readText(html).find("http"), readText(html).find("http://www.w3.org"))
+        << "the page must not fetch anything";
+
+    const std::string command = std::string(chromium) +
+                                " --headless=new --no-sandbox --disable-gpu --use-angle=swiftshader "
+                                "--enable-unsafe-swiftshader --user-data-dir=" + (s.dir / "profile").string() +
+                                " --window-size=420,480 --virtual-time-budget=5000 --screenshot=" + shot.string() +
+                                " file://" + html.string() + " >" + (s.dir / "chromium.log").string() + " 2>&1";
+    ASSERT_EQ(std::system(command.c_str()), 0) << readText(s.dir / "chromium.log");
+    const Texture screenshot = readTexture(shot);
+    // The view is a 360 px canvas with a grey background (0.5 sRGB, 0.214
+    // linear); inside the grey's bounding box, what is not grey is the
+    // model, and it shows about the mean radiance the render predicted
+    // (unlit; the cube is white resin: about equal channels).
+    double predicted = 0, covered = 0;
+    for (size_t i = 0; i < image.mean.size(); ++i)
+        if (image.coverage[i] > 0) {
+            predicted += image.mean[i][0];
+            covered += 1;
+        }
+    predicted /= covered;
+    auto at = [&](int x, int y) { return screenshot.linear[size_t(y) * size_t(screenshot.width) + size_t(x)]; };
+    auto grey = [](const RGB& c) {
+        return std::abs(c[0] - 0.214f) < 0.02f && std::abs(c[1] - 0.214f) < 0.02f && std::abs(c[2] - 0.214f) < 0.02f;
+    };
+    int x0 = screenshot.width, x1 = -1, y0 = screenshot.height, y1 = -1;
+    for (int y = 0; y < screenshot.height; ++y)
+        for (int x = 0; x < screenshot.width; ++x)
+            if (grey(at(x, y))) {
+                x0 = std::min(x0, x), x1 = std::max(x1, x);
+                y0 = std::min(y0, y), y1 = std::max(y1, y);
+            }
+    ASSERT_GT(x1 - x0, 300) << "no view in the screenshot";
+    ASSERT_GT(y1 - y0, 300) << "no view in the screenshot";
+    int model = 0;
+    double red = 0, green = 0;
+    for (int y = y0 + 2; y < y1 - 1; ++y)
+        for (int x = x0 + 2; x < x1 - 1; ++x)
+            if (!grey(at(x, y))) {
+                model += 1;
+                red += at(x, y)[0];
+                green += at(x, y)[1];
+            }
+    ASSERT_GT(model, (x1 - x0) * (y1 - y0) / 10) << "the model is not in the view";
+    EXPECT_NEAR(red / model, std::min(predicted, 1.0), 0.1) << "predicted " << predicted << ", " << model << " px";
+    EXPECT_NEAR(green / model, red / model, 0.1);
+}
+
 TEST(Cli, BenchWritesErrorTablesAgainstAReference) {
     TestScene s("bench");
     fs::path scene = s.write();
