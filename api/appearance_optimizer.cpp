@@ -204,6 +204,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         scoreInto(smooth(predicted, settings.scoreRadius), scoredTarget, it.meanDeltaE, it.p95DeltaE);
         scoreInto(predicted, mapped, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel);
         if (iteration == settings.iterations) {
+            result.finalPredicted = smooth(predicted, settings.scoreRadius);
+            result.finalTarget = scoredTarget;
+            result.finalDeltaE.resize(predicted.size());
+            for (size_t i = 0; i < predicted.size(); ++i)
+                result.finalDeltaE[i] = float(ciede2000(labFromLinearSrgb(result.finalPredicted[i]),
+                                                        labFromLinearSrgb(result.finalTarget[i])));
             it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
             result.iterations.push_back(it);
             if (onIteration) onIteration(it);

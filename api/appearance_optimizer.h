@@ -50,6 +50,10 @@ struct OptimizeIteration {
 struct OptimizeResult {
     std::vector<OptimizeIteration> iterations;
     RGB gamutBlack{0, 0, 0}, gamutWhite{1, 1, 1};  // reflectance of the calibration shells
+    // The last iteration per surface voxel, as it was scored (over
+    // scoreRadius): predicted and (mapped) target reflectance, CIEDE2000.
+    std::vector<RGB> finalPredicted, finalTarget;
+    std::vector<float> finalDeltaE;
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends

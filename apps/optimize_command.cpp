@@ -16,6 +16,7 @@
 #include "apps/command_options.h"
 #include "runtime/progress.h"
 #include "io/grid_io.h"
+#include "io/html_report.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"
 #include "io/output_file.h"
@@ -61,6 +62,22 @@ std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& pla
     return targets;
 }
 
+// A colour for a CIEDE2000 value: blue 0, green 2.5, yellow 5, red 10 and
+// above (linear RGB).
+RGB deltaEColor(float deltaE) {
+    const RGB stops[] = {{0.02f, 0.05f, 0.6f}, {0.05f, 0.5f, 0.1f}, {0.9f, 0.8f, 0.05f}, {0.8f, 0.02f, 0.02f}};
+    const float at[] = {0.0f, 2.5f, 5.0f, 10.0f};
+    if (!(deltaE > 0.0f)) return stops[0];
+    for (int k = 1; k < 4; ++k)
+        if (deltaE < at[k]) {
+            const float f = (deltaE - at[k - 1]) / (at[k] - at[k - 1]);
+            RGB c;
+            for (int ch = 0; ch < 3; ++ch) c[ch] = stops[k - 1][ch] + f * (stops[k][ch] - stops[k - 1][ch]);
+            return c;
+        }
+    return stops[3];
+}
+
 }  // namespace
 
 int optimizeCommand(const std::vector<std::string>& argv) {
@@ -98,10 +115,13 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     SceneDescription desc = parseScene(args.positional()[0]);
     std::filesystem::path prefix = args.value("-o").value_or("out/" + desc.sceneFile.stem().string() + "_optimize");
     const std::filesystem::path csvFile = prefix.string() + ".csv", labelsFile = prefix.string() + "_labels.vdb";
+    const std::filesystem::path targetGlb = prefix.string() + "_target.glb",
+                                predictionGlb = prefix.string() + "_prediction.glb",
+                                errorGlb = prefix.string() + "_error.glb", reportFile = prefix.string() + ".html";
     std::vector<std::filesystem::path> inputs = desc.inputFiles();
     if (std::filesystem::exists(*target)) inputs.push_back(*target);
-    refuseToOverwriteInputs(csvFile, inputs);
-    refuseToOverwriteInputs(labelsFile, inputs);
+    for (const auto& out : {csvFile, labelsFile, targetGlb, predictionGlb, errorGlb, reportFile})
+        refuseToOverwriteInputs(out, inputs);
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
     if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
@@ -139,7 +159,30 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     LabelGrid final = predictor.labels().withChanges({});
     final.placeCornerAt(predictor.worldFrame().cornerMin_mm);
     writeLabelGridVdb(final, labelsFile);
-    std::printf("wrote %s and %s\n", csvFile.string().c_str(), labelsFile.string().c_str());
+
+    // The last iteration on the model: target, prediction and the
+    // per-voxel CIEDE2000, and the page that shows them with the history.
+    const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement), predictor.worldFrame(), voxels);
+    writePredictionGlb(patches, result.finalTarget, targetGlb);
+    writePredictionGlb(patches, result.finalPredicted, predictionGlb);
+    std::vector<RGB> errorColors(result.finalDeltaE.size());
+    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColor(result.finalDeltaE[i]);
+    writePredictionGlb(patches, errorColors, errorGlb);
+    HtmlReport report;
+    report.title = "printlight optimize: " + desc.sceneFile.filename().string();
+    char summary[256];
+    std::snprintf(summary, sizeof summary,
+                  "%d iterations, %u spp, %s; mean CIEDE2000 %.2f -> %.2f. Error map: blue 0, green 2.5, "
+                  "yellow 5, red 10 or more.",
+                  os.iterations, predictor.settings().spp, predictor.settings().integrator.c_str(),
+                  its.front().meanDeltaE, its.back().meanDeltaE);
+    report.summary = summary;
+    report.models = {{"target", targetGlb}, {"prediction", predictionGlb}, {"CIEDE2000", errorGlb}};
+    for (const OptimizeIteration& it : its) report.history.push_back({double(it.iteration), it.meanDeltaE});
+    report.historyLabel = "mean CIEDE2000";
+    writeHtmlReport(report, reportFile);
+    std::printf("wrote %s, %s, %s_{target,prediction,error}.glb and %s\n", csvFile.string().c_str(),
+                labelsFile.string().c_str(), prefix.string().c_str(), reportFile.string().c_str());
     return 0;
 }
 

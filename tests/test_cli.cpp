@@ -720,6 +720,13 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     LabelGrid labels = loadLabelGrid(prefix.string() + "_labels.vdb", std::nullopt);
     EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
     EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
+    // The last iteration on the model, and the page with the history.
+    for (const char* part : {"_target.glb", "_prediction.glb", "_error.glb"})
+        EXPECT_GT(fs::file_size(prefix.string() + part), 1000u) << part;
+    const std::string page = readText(prefix.string() + ".html");
+    for (const char* label : {"\"target\"", "\"prediction\"", "\"CIEDE2000\""})
+        EXPECT_NE(page.find(label), std::string::npos) << label;
+    EXPECT_NE(page.find("\"history\":[{\"iteration\":0.0"), std::string::npos);
     CliRun bad = printlight("optimize " + s.write().string() + " --target 2,0,0", s.dir);
     EXPECT_EQ(bad.exitCode, 2) << bad.err;
     EXPECT_NE(bad.err.find("--target"), std::string::npos) << bad.err;
