@@ -39,6 +39,7 @@
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
+#include "scene/progressive_render.h"
 #include "scene/scene_io.h"
 
 namespace pl {
@@ -226,34 +227,6 @@ Errors selfVariance(const Film& film, RelativeTo&& relativeTo) {
     return e;
 }
 
-// Whole-object quality: per channel the median over pixels of a pixel's
-// relative error, the largest over the channels. Self-variance: the
-// pixel's standard error over its mean. Against a reference: |mean - ref|
-// over ref, divided by 0.6745 (the median of |N(0,1)|), so that both
-// estimate the same for an unbiased estimator; a dark pixel (mean or
-// reference <= 0) counts as infinitely far.
-double medianRelativeError(const Film& film, const Sensor& sensor, const RadianceImage* ref) {
-    double worst = 0;
-    for (int c = 0; c < 3; ++c) {
-        std::vector<double> rel;
-        rel.reserve(film.pixelCount());
-        for (size_t p = 0; p < film.pixelCount(); ++p) {
-            const double m = film.mean(p, c);
-            if (!ref) {
-                rel.push_back(m > 0 ? film.standardError(p, c) / m : INFINITY);
-                continue;
-            }
-            const int64_t i = sensor.pixelImageIndex(p);
-            if (i < 0) continue;
-            const double r = ref->mean[size_t(i)][c];
-            rel.push_back(r > 0 ? std::abs(m - r) / r / 0.6745 : INFINITY);
-        }
-        if (rel.empty()) continue;
-        std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
-        worst = std::max(worst, rel[rel.size() / 2]);
-    }
-    return worst;
-}
 // The time to bring that median down to the target, from a render that
 // took `seconds`: error falls as 1 / sqrt(time) for these estimators (an
 // extrapolation where the render did not reach it; the render's own time

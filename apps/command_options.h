@@ -38,7 +38,7 @@ private:
 // Applies those of the render overrides the command line holds (a command
 // that does not accept one never has it).
 inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
-    if (auto spp = args.integer("--spp", 1, int64_t(1) << 24)) r.spp = uint32_t(*spp);
+    if (auto spp = args.integer("--spp", 1, RenderSettings::kMostSpp)) r.spp = uint32_t(*spp);
     if (auto seed = args.integer("--seed", 0, INT64_MAX)) r.seed = uint64_t(*seed);
     if (auto ch = args.value("--channel")) {
         auto channels = parseChannels(*ch);

@@ -188,7 +188,10 @@ int prepareCommand(const std::vector<std::string>& argv) {
                              {"up", {0, 0, 1}},
                              {"fov_deg", 30},
                              {"resolution", {320, 240}}};
-        preview["render"]["spp"] = 16;
+        // A preview stops at 5 % median noise or after a minute.
+        preview["render"].erase("spp");
+        preview["render"]["target_relative_error"] = 0.05;
+        preview["render"]["time_budget_s"] = 60;
         preview["render"]["reentry"] = true;
         preview["output"]["path"] = "out/" + stem + "_preview";
         writeTextFile(sceneOut->string() + "_surface.json", surface.dump(2) + "\n");

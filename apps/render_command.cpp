@@ -1,7 +1,10 @@
 // printlight render: scene file -> surface-radiance prediction or preview.
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <optional>
 
 #include "apps/arguments.h"
 #include "apps/command_options.h"
@@ -13,6 +16,7 @@
 #include "io/mesh_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
+#include "scene/progressive_render.h"
 #include "scene/scene_io.h"
 
 namespace pl {
@@ -53,12 +57,28 @@ std::string controlSummary(const RenderResult& r) {
 int renderCommand(const std::vector<std::string>& argv) {
     Arguments args("render", argv,
                    {kSppOption, kSeedOption, kThreadsOption, kChannelOption, kChannelSamplingOption, integratorOption(),
+                    {"--time", "SECONDS", "stop at this wall time; the images refine after each round"},
+                    {"--target-error", "E", "stop at this median per-pixel relative standard error (e.g. 0.05)"},
                     {"-o,--output", "OUT", "output path without extension (overrides the scene's)"}, kQuietOption});
     if (args.positional().size() != 1) throw UsageError("render needs exactly one SCENE.json");
     auto t0 = std::chrono::steady_clock::now();
 
     SceneDescription desc = parseScene(args.positional()[0]);
     applyRenderOptions(args, desc.render);
+    auto positiveNumber = [&](const char* option) -> std::optional<double> {
+        auto v = args.value(option);
+        if (!v) return std::nullopt;
+        char* end = nullptr;
+        const double x = std::strtod(v->c_str(), &end);
+        if (end != v->c_str() + v->size() || !(x > 0) || !std::isfinite(x))
+            throw UsageError(std::string(option) + " takes a positive number");
+        return x;
+    };
+    if (auto t = positiveNumber("--time")) desc.render.timeBudget_s = *t;
+    if (auto e = positiveNumber("--target-error")) desc.render.targetRelativeError = *e;
+    const bool progressive = desc.render.timeBudget_s > 0 || desc.render.targetRelativeError > 0;
+    if ((args.has("--time") || args.has("--target-error")) && !args.has("--spp"))
+        desc.render.spp = uint32_t(RenderSettings::kMostSpp);  // the budget or the target decides
     ThreadLimit threads(args);
     if (auto o = args.value("-o")) desc.output = *o;
 
@@ -98,16 +118,32 @@ int renderCommand(const std::vector<std::string>& argv) {
     }
 
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
-    RenderResult result = render(scene, *sensor, desc.render);
-
-    RadianceImage image = filmToImage(result.film, *sensor);
-    std::string channels = channelNames(desc.render.channels);
-    image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
-                      {"sensor", desc.sensor.type},        {"spp", std::to_string(desc.render.spp)},
-                      {"seed", std::to_string(desc.render.seed)}, {"channels", channels},
-                      {"channel_sampling", channelSamplingName(desc.render.channelSampling)}};
-    writeExr(image, outputs[0]);
-    writePng(image, outputs[1]);
+    // The images, with how they were made; written after each round of a
+    // progressive render too (each write complete: io/output_file.h).
+    auto writeImages = [&](const RenderResult& r, uint32_t spp) {
+        RadianceImage image = filmToImage(r.film, *sensor);
+        image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
+                          {"sensor", desc.sensor.type},        {"spp", std::to_string(spp)},
+                          {"seed", std::to_string(desc.render.seed)}, {"channels", channelNames(desc.render.channels)},
+                          {"channel_sampling", channelSamplingName(desc.render.channelSampling)}};
+        writeExr(image, outputs[0]);
+        writePng(image, outputs[1]);
+    };
+    RenderResult result;
+    uint32_t sppDone = desc.render.spp;
+    std::string stopped;
+    if (progressive) {
+        ProgressiveRender p = renderProgressively(scene, *sensor, desc.render, writeImages);
+        result = std::move(p.result);
+        sppDone = p.spp;
+        char line[160];
+        std::snprintf(line, sizeof line, ", stopped by %s at %u spp, median relative error %.3g", p.stoppedBy.c_str(),
+                      p.spp, p.medianRelativeError);
+        stopped = line;
+    } else {
+        result = render(scene, *sensor, desc.render);
+        writeImages(result, sppDone);
+    }
     if (surface) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
@@ -137,18 +173,18 @@ int renderCommand(const std::vector<std::string>& argv) {
                      double(result.stats.leaks) / double(std::max<uint64_t>(result.stats.paths, 1)));
 
     // Summary: wall time, samples, paths per second, scattering events per second.
-    uint64_t samples = uint64_t(sensor->pixelCount()) * desc.render.spp * desc.render.channels.size();
+    uint64_t samples = uint64_t(sensor->pixelCount()) * sppDone * desc.render.channels.size();
     double s = result.seconds;
     char balls[64] = "";
     if (result.stats.ballEvents)
         std::snprintf(balls, sizeof balls, " (%.0f %% in ball walks)",
                       100.0 * double(result.stats.ballEvents) / double(result.stats.scatterEvents));
     std::printf("render %.2f s wall (%.2f s total), %s samples (%s px x %u spp x %zu ch), "
-                "%s paths/s, %s scattering events/s%s%s, %d thread(s) -> %s\n",
+                "%s paths/s, %s scattering events/s%s%s%s, %d thread(s) -> %s\n",
                 s, secondsSince(t0), withThousands(samples).c_str(),
-                withThousands(sensor->pixelCount()).c_str(), desc.render.spp,
+                withThousands(sensor->pixelCount()).c_str(), sppDone,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(),
+                siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(), stopped.c_str(),
                 threads.count, (base.string() + (surface ? ".{exr,png,vdb,glb}" : ".{exr,png}")).c_str());
     return 0;
 }

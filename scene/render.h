@@ -19,7 +19,10 @@ namespace pl {
 
 struct RenderSettings {
     std::string integrator = "volpath";  // a name of integratorKinds() (scene/registry.h)
-    uint32_t spp = 16;
+    static constexpr int64_t kMostSpp = int64_t(1) << 24;
+    uint32_t spp = 16;           // with a time budget or a target error: the most
+    double timeBudget_s = 0;     // > 0: stop at this wall time (scene/progressive_render.h)
+    double targetRelativeError = 0;  // > 0: stop at this median per-pixel relative error
     uint64_t seed = 1;
     std::vector<int> channels{0, 1, 2};  // rendered channels
     // How all three channels are sampled (a subset is always one pass per

@@ -125,15 +125,22 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     RenderSettings& r = d.render;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        std::vector<std::string> keys = {"integrator", "spp", "seed", "channel", "channel_sampling", "max_depth",
+        std::vector<std::string> keys = {"integrator", "spp", "time_budget_s", "target_relative_error", "seed", "channel", "channel_sampling", "max_depth",
                                          "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid",
                                          "lighttrace_scoring", "lighttrace_track_spacing_mfp"};
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
-        int64_t spp = json.integer(ren, "spp", "render", 16);
-        if (spp < 1 || spp > (int64_t(1) << 24)) json.fail("render.spp", "must be in 1..16777216");
+        r.timeBudget_s = json.number(ren, "time_budget_s", "render", 0.0);
+        if (!(r.timeBudget_s >= 0 && std::isfinite(r.timeBudget_s))) json.fail("render.time_budget_s", "must be >= 0 (seconds)");
+        r.targetRelativeError = json.number(ren, "target_relative_error", "render", 0.0);
+        if (!(r.targetRelativeError >= 0 && r.targetRelativeError < 10))
+            json.fail("render.target_relative_error", "must be in [0, 10)");
+        // With a budget or a target, spp is the most samples: none unless given.
+        const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
+        int64_t spp = json.integer(ren, "spp", "render", progressive ? RenderSettings::kMostSpp : 16);
+        if (spp < 1 || spp > RenderSettings::kMostSpp) json.fail("render.spp", "must be in 1..16777216");
         r.spp = uint32_t(spp);
         int64_t seed = json.integer(ren, "seed", "render", 1);
         if (seed < 0) json.fail("render.seed", "must not be negative");

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstring>
 #include <sys/wait.h>
 
 #include <fstream>
@@ -74,14 +75,14 @@ TEST(Cli, GoodSceneWritesAllOutputsAndASummary) {
     TestScene s("good");
     CliRun r = s.render("--threads 2");
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    for (const char* ext : {".exr", ".png", ".vdb"}) EXPECT_TRUE(fs::exists(s.out().string() + ext)) << ext;
+    for (const char* ext : {".exr", ".png", ".vdb", ".glb"}) EXPECT_TRUE(fs::exists(s.out().string() + ext)) << ext;
     EXPECT_NE(r.out.find("paths/s"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("scattering events/s"), std::string::npos) << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
     // Exactly the outputs: no stray temporary files.
     size_t files = 0;
     for (const auto& e : fs::directory_iterator(s.out().parent_path())) files += e.is_regular_file();
-    EXPECT_EQ(files, 3u);
+    EXPECT_EQ(files, 4u);
     RadianceImage im = readExr(s.out().string() + ".exr");
     double sum = 0, covered = 0;
     for (size_t i = 0; i < im.mean.size(); ++i) {
@@ -104,6 +105,40 @@ TEST(Cli, SameSeedSameBitsWhateverTheThreadCount) {
         ASSERT_EQ(a.mean[i], b.mean[i]) << i;
         ASSERT_EQ(a.standardError[i], b.standardError[i]) << i;
     }
+}
+
+// A render with a target error or a time budget stops by it, in rounds
+// whose N samples are the bits of --spp N (so the summary's spp
+// reproduces it), and its median relative error is at the target.
+TEST(Cli, RendersStopAtATargetErrorOrATimeAndReproduceWithTheirSpp) {
+    TestScene s("progressive");
+    CliRun r = s.render("--target-error 0.05");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const size_t at = r.out.find("stopped by target error at ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    const int spp = std::atoi(r.out.c_str() + at + std::strlen("stopped by target error at "));
+    EXPECT_GT(spp, 2) << r.out;
+    const RadianceImage a = readExr(s.out().string() + ".exr");
+    EXPECT_EQ(a.meta("spp"), std::to_string(spp));
+    std::vector<double> relative;
+    for (size_t i = 0; i < a.mean.size(); ++i)
+        if (a.coverage[i] > 0 && a.standardError[i][1] > 0) relative.push_back(a.standardError[i][1] / a.mean[i][1]);
+    std::nth_element(relative.begin(), relative.begin() + long(relative.size() / 2), relative.end());
+    EXPECT_LE(relative[relative.size() / 2], 0.05);
+
+    fs::remove_all(s.out().parent_path());
+    ASSERT_EQ(s.render("--spp " + std::to_string(spp)).exitCode, 0);
+    const RadianceImage b = readExr(s.out().string() + ".exr");
+    ASSERT_EQ(a.mean.size(), b.mean.size());
+    for (size_t i = 0; i < a.mean.size(); ++i) {
+        ASSERT_EQ(a.mean[i], b.mean[i]) << i;
+        ASSERT_EQ(a.standardError[i], b.standardError[i]) << i;
+    }
+
+    r = s.render("--time 0.5");
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("stopped by time at "), std::string::npos) << r.out;
+    EXPECT_EQ(s.render("--time -1").exitCode, 2);
 }
 
 TEST(Cli, CtrlCStopsPromptlyWritesNothingAndExits130) {

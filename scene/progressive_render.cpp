@@ -1,0 +1,74 @@
+#include "scene/progressive_render.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "io/image_io.h"
+
+namespace pl {
+
+double medianRelativeError(const Film& film, const Sensor& sensor, const RadianceImage* ref, bool skipExact) {
+    double worst = 0;
+    for (int c = 0; c < 3; ++c) {
+        std::vector<double> rel;
+        rel.reserve(film.pixelCount());
+        for (size_t p = 0; p < film.pixelCount(); ++p) {
+            const double m = film.mean(p, c);
+            if (!ref) {
+                const double se = film.standardError(p, c);
+                if (skipExact && !(se > 0)) continue;
+                rel.push_back(m > 0 ? se / m : INFINITY);
+                continue;
+            }
+            const int64_t i = sensor.pixelImageIndex(p);
+            if (i < 0) continue;
+            const double r = ref->mean[size_t(i)][c];
+            rel.push_back(r > 0 ? std::abs(m - r) / r / 0.6745 : INFINITY);
+        }
+        if (rel.empty()) continue;
+        std::nth_element(rel.begin(), rel.begin() + long(rel.size() / 2), rel.end());
+        worst = std::max(worst, rel[rel.size() / 2]);
+    }
+    return worst;
+}
+
+ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                      const std::function<void(const RenderResult&, uint32_t)>& onRound) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    ProgressiveRender out{RenderResult{Film(sensor.pixelCount()), {}, 0}, 0, 0, "spp"};
+    std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
+    const bool timed = settings.timeBudget_s > 0, targeted = settings.targetRelativeError > 0;
+    uint32_t round = 1;
+    for (;;) {
+        round = std::min(round, settings.spp - out.spp);
+        renderSamples(*integrator, scene, sensor, settings, {}, out.spp, round, out.result);
+        out.spp += round;
+        out.result.seconds = elapsed();
+        out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
+        if (onRound) onRound(out.result, out.spp);
+        if (out.spp >= settings.spp) break;
+        if (targeted && out.medianRelativeError <= settings.targetRelativeError) {
+            out.stoppedBy = "target error";
+            break;
+        }
+        const double perSample = out.result.seconds / out.spp;
+        if (timed && out.result.seconds + perSample >= settings.timeBudget_s) {
+            out.stoppedBy = "time";
+            break;
+        }
+        // Double (an image after each round), or fewer where the target
+        // asks for fewer (error falls as 1 / sqrt(samples)), within the
+        // time left.
+        double next = out.spp;
+        if (targeted && std::isfinite(out.medianRelativeError))
+            next = std::min(next, std::max(1.0, std::ceil(out.spp * (std::pow(out.medianRelativeError / settings.targetRelativeError, 2) - 1.0))));
+        if (timed) next = std::min(next, std::floor((settings.timeBudget_s - out.result.seconds) / perSample));
+        round = uint32_t(std::clamp(next, 1.0, double(settings.spp)));
+    }
+    return out;
+}
+
+}  // namespace pl
