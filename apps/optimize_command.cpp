@@ -19,6 +19,7 @@
 #include "io/html_report.h"
 #include "io/input_error.h"
 #include "io/mesh_io.h"
+#include "io/mesh_repair.h"
 #include "io/output_file.h"
 #include "scene/scene_io.h"
 
@@ -28,8 +29,8 @@ namespace {
 
 // Per surface voxel: the colour of the textured model at the nearest point
 // of its surface, or one colour for all.
-// A target model is placed as the scene's mesh is (its unit and scale).
-std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& placement, const Predictor& predictor,
+// A target model is placed (and repaired) as the scene's mesh is.
+std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& placement, bool repair, const Predictor& predictor,
                              const std::vector<Vec3i>& voxels) {
     std::filesystem::path file(target);
     if (!std::filesystem::exists(file)) {
@@ -38,7 +39,8 @@ std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& pla
             if (!(x >= 0 && x <= 1)) throw UsageError("--target colour components must be in [0, 1] (linear RGB)");
         return std::vector<RGB>(voxels.size(), RGB{c.x, c.y, c.z});
     }
-    MeshAsset asset = loadMeshAsset(file, placement);
+    MeshRepairSummary repaired;
+    MeshAsset asset = loadMeshAsset(file, placement, repair ? &repaired : nullptr);
     if (!asset.appearance.hasColor()) throw InputError(file.string(), "the model has no colours to aim at");
     SurfaceAppearance look = std::move(asset.appearance);
     Geometry geometry(std::move(asset.mesh));
@@ -129,7 +131,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     desc.render.channels = {0, 1, 2};
     Predictor predictor(desc, desc.render);
     const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
-    std::vector<RGB> targets = loadTargets(*target, desc.meshPlacement, predictor, voxels);
+    std::vector<RGB> targets = loadTargets(*target, desc.meshPlacement, desc.meshRepair, predictor, voxels);
     std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header = "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels\n";
@@ -162,7 +164,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
 
     // The last iteration on the model: target, prediction and the
     // per-voxel CIEDE2000, and the page that shows them with the history.
-    const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement), predictor.worldFrame(), voxels);
+    const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair), predictor.worldFrame(), voxels);
     writePredictionGlb(patches, result.finalTarget, targetGlb);
     writePredictionGlb(patches, result.finalPredicted, predictionGlb);
     std::vector<RGB> errorColors(result.finalDeltaE.size());

@@ -13,6 +13,7 @@
 #include "io/input_error.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
+#include "io/mesh_repair.h"
 #include "io/output_file.h"
 #include "prepare/halftone.h"
 #include "prepare/prepare_model.h"
@@ -43,6 +44,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                    {{"-o,--output", "OUT.vdb", "the label grid, with sdf and normal grids (required)"},
                     {"--units", "m|mm|in", "the unit of the model's coordinates (default: glTF's metres; OBJ: mm)"},
                     {"--fit-mm", "L", "scale the model so that its largest side is L mm"},
+                    {"--repair", "", "repair a mesh that is not one closed surface (weld, orient, stitch, fill holes)"},
                     {"--voxel", "X,Y,Z",
                      "voxel size in mm (default the printer's, " + text(defaults.voxel_mm.x) + "," +
                          text(defaults.voxel_mm.y) + "," + text(defaults.voxel_mm.z) + ")"},
@@ -119,7 +121,10 @@ int prepareCommand(const std::vector<std::string>& argv) {
 
     // The model, then the pipeline (prepare/prepare_model.h).
     auto t0 = std::chrono::steady_clock::now();
-    MeshAsset asset = loadMeshAsset(model, MeshPlacement{LengthUnit::Millimetre, 1.0});  // as in the file
+    MeshRepairSummary repaired;
+    const bool repair = args.has("--repair");
+    // As in the file; scaled (and repaired) below, as loadMeshAsset does for the scene.
+    MeshAsset asset = loadMeshAsset(model, MeshPlacement{LengthUnit::Millimetre, 1.0}, repair ? &repaired : nullptr);
     MeshPlacement placement;
     if (auto u = args.value("--units")) placement.unit = parseLengthUnit(*u);
     const FormatUnit formatUnit = formatUnitOf(model);
@@ -129,7 +134,13 @@ int prepareCommand(const std::vector<std::string>& argv) {
     const Vec3f fileExtent = fileBounds.hi - fileBounds.lo;
     const double largestSide = std::max(fileExtent.x, std::max(fileExtent.y, fileExtent.z)) * millimetresPer(unit);
     if (fitMm) placement.scale = *fitMm / largestSide;
-    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(model));
+    if (repair) {
+        // Again from the file, scaled first: the scene repairs what it loads the same way.
+        repaired = {};
+        asset = loadMeshAsset(model, placement, &repaired);
+    } else {
+        scaleMesh(asset.mesh, placement.millimetresPerFileUnit(model));
+    }
     const double side_mm = largestSide * placement.scale;
     const double toMm = millimetresPer(unit) * placement.scale;
     char fitted[96] = "";
@@ -173,6 +184,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                                  {"materials", relativeTo(*materialsFile, dir)},
                                  {"ior", 1.5}};
         if (placement.scale != 1.0) object["mesh_scale"] = placement.scale;
+        if (repair) object["mesh_repair"] = true;
         std::string stem = sceneOut->filename().string();
         nlohmann::json surface = {{"object", object},
                                   {"environment", {{"radiance", {1, 1, 1}}}},
@@ -205,6 +217,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     double dense = double(f.voxelCount()) * 16.0;
     std::printf("prepare: %s: %s\n", model.string().c_str(), size);
     std::printf("  model:     %zu triangles, colour from %s\n", mesh.triangleCount(), prepared.colorSource.c_str());
+    if (repair) std::printf("  repaired:  %s\n", repaired.text().c_str());
     std::printf("  grid:      %d x %d x %d = %llu voxels of %.4g x %.4g x %.4g mm\n", r.x, r.y, r.z,
                 (unsigned long long)f.voxelCount(), f.voxelSize_mm.x, f.voxelSize_mm.y, f.voxelSize_mm.z);
     std::printf("  voxels:    %llu inside (centre), %llu printed (%s fill), %zu surface, %llu in the colour shell (%.2f mm), %llu in the distance band\n",

@@ -1,4 +1,5 @@
 #include "io/mesh_io.h"
+#include "io/mesh_repair.h"
 
 #include <string>
 #include <unordered_map>
@@ -58,7 +59,12 @@ void scaleMesh(TriangleMesh& mesh, double factor) {
         p = Point3f(float(double(p.x) * factor), float(double(p.y) * factor), float(double(p.z) * factor));
 }
 
-MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement) {
+TriangleMesh loadMesh(const std::filesystem::path& file, const MeshPlacement& placement, bool repair) {
+    MeshRepairSummary summary;
+    return loadMeshAsset(file, placement, repair ? &summary : nullptr).mesh;
+}
+
+MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement, MeshRepairSummary* repaired) {
     std::string ext = lowerExtension(file);
     MeshAsset asset;
     if (ext == ".obj") asset = loadObj(file);
@@ -66,7 +72,12 @@ MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& 
     else if (ext == ".stl" || ext == ".ply" || ext == ".3mf") asset = loadWithAssimp(file);
     else throw InputError(file.string(), "unknown mesh format (expected .gltf, .glb, .obj, .stl, .ply or .3mf)");
     scaleMesh(asset.mesh, placement.millimetresPerFileUnit(file));
-    validateClosedMesh(asset.mesh, file.string());
+    // A repaired mesh is closed and oriented outwards (its triangles keep
+    // their own vertices, so the index-based check does not apply).
+    if (repaired)
+        asset = repairMesh(asset, file.string(), *repaired);
+    else
+        validateClosedMesh(asset.mesh, file.string());
     return asset;
 }
 

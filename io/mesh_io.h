@@ -19,14 +19,17 @@ struct MeshAsset {
     SurfaceAppearance appearance;  // colours, if the file has any
 };
 
-// The model in millimetres, placed by `placement` (its file's unit and a scale).
-MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement = {});
+struct MeshRepairSummary;
+// The model in millimetres, placed by `placement` (its file's unit and a
+// scale). repaired: none refuses a mesh that is not one closed surface;
+// given, the mesh is repaired (io/mesh_repair.h) and what was done is
+// reported there.
+MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& placement = {},
+                        MeshRepairSummary* repaired = nullptr);
 // Multiplies every position by millimetresPerFileUnit (in double, rounded
 // once): what loadMeshAsset does with the placement's factor.
 void scaleMesh(TriangleMesh& mesh, double millimetresPerFileUnit);
-inline TriangleMesh loadMesh(const std::filesystem::path& file, const MeshPlacement& placement = {}) {
-    return loadMeshAsset(file, placement).mesh;
-}
+TriangleMesh loadMesh(const std::filesystem::path& file, const MeshPlacement& placement = {}, bool repair = false);
 
 // Throws InputError(file, ...) unless every edge is shared by exactly two
 // triangles with opposite orientation. Flips the winding if the enclosed

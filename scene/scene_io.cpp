@@ -52,7 +52,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
 
     // object
     const auto& obj = json.object(root, "object", "");
-    json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "labels", "materials", "ior", "void_label"});
+    json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "mesh_repair", "labels", "materials", "ior", "void_label"});
     d.meshFile = dir / json.string(obj, "mesh", "object");
     if (obj.contains("mesh_units")) {
         const std::string unit = json.string(obj, "mesh_units", "object");
@@ -60,6 +60,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         if (!d.meshPlacement.unit) json.fail("object.mesh_units", "must be m, mm or in");
     }
     d.meshPlacement.scale = json.number(obj, "mesh_scale", "object", 1.0);
+    d.meshRepair = json.boolean(obj, "mesh_repair", "object", false);
     if (!(d.meshPlacement.scale > 0 && std::isfinite(d.meshPlacement.scale)))
         json.fail("object.mesh_scale", "must be a positive number");
     d.labelsFile = dir / json.string(obj, "labels", "object");
@@ -199,7 +200,7 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
     Scene scene;
     scene.ior = d.ior;
     scene.environment = d.environment;
-    TriangleMesh mesh = loadMesh(d.meshFile, d.meshPlacement);
+    TriangleMesh mesh = loadMesh(d.meshFile, d.meshPlacement, d.meshRepair);
     MaterialTable materials = loadMaterials(d.materialsFile);
     LabelGrid grid = loadLabelGrid(d.labelsFile, d.voidLabel);
 

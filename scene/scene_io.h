@@ -28,6 +28,7 @@ struct SceneDescription {
     std::filesystem::path sceneFile;
     std::filesystem::path meshFile, labelsFile, materialsFile;
     MeshPlacement meshPlacement;  // the mesh file's unit and scale
+    bool meshRepair = false;      // repair the mesh as it loads (io/mesh_repair.h)
     std::optional<Label> voidLabel;
     float ior = 1.5f;
     RGB environment{1, 1, 1};

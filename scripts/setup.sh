@@ -10,7 +10,7 @@ packages=(
   libembree-dev libopenvdb-dev libboost-iostreams-dev
   libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
-  pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev libassimp-dev
+  pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev libassimp-dev libcgal-dev
   assimp-testmodels chromium
 )
 # The report viewer's scripts come from the npm registry (web/package.json);

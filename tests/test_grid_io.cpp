@@ -9,6 +9,7 @@
 #include "io/input_error.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
+#include "io/mesh_repair.h"
 #include "test_util.h"
 
 namespace pl {
@@ -186,6 +187,45 @@ TEST(MeshIo, StlAndPlyBoxesAndGltf1) {
     expectInputError([&] { loadMesh(dir / "v1.gltf"); }, "glTF 1.0 is not supported");
     writeBytes(dir / "v1.glb", std::string("glTF\x01\0\0\0\x14\0\0\0", 12) + std::string(8, '\0'));
     expectInputError([&] { loadMesh(dir / "v1.glb"); }, "glTF 1.0 is not supported");
+}
+
+// Repair (CGAL): a box with a missing triangle, one triangle flipped and
+// every vertex repeated per triangle (as STL stores it) comes back closed
+// and oriented outwards, with the colours of the triangles it kept.
+TEST(MeshIo, RepairClosesOrientsAndWelds) {
+    auto dir = test::freshTempDir("mesh_repair");
+    const TriangleMesh box = test::boxMesh({0, 0, 0}, {1, 2, 3});
+    TriangleMesh soup;
+    SurfaceAppearance look;
+    for (size_t t = 0; t + 1 < box.triangleCount(); ++t)  // the last triangle left out: a hole
+        for (int k = 0; k < 3; ++k) {
+            const int corner = t == 0 ? 2 - k : k;  // the first triangle flipped
+            soup.indices.push_back(uint32_t(soup.positions_mm.size()));
+            soup.positions_mm.push_back(box.positions_mm[box.indices[3 * t + size_t(corner)]]);
+            look.vertexColors.push_back(RGB{0.25f, 0.5f, 0.75f});
+        }
+    MeshRepairSummary summary;
+    MeshAsset repaired = repairMesh(MeshAsset{soup, look}, "soup", summary);
+    EXPECT_EQ(summary.weldedVertices, 33u - 8u);
+    EXPECT_EQ(summary.holesFilled, 1u);
+    EXPECT_EQ(summary.fillTriangles, 1u);
+    EXPECT_EQ(summary.reorientedTriangles, 1u);
+    ASSERT_EQ(repaired.mesh.triangleCount(), 12u);
+    ASSERT_EQ(repaired.appearance.vertexColors.size(), 36u);
+    for (const RGB& c : repaired.appearance.vertexColors) EXPECT_EQ(c, (RGB{0.25f, 0.5f, 0.75f}));
+    // Closed and outward: rays from outside enter through outward faces
+    // everywhere, including where the hole was and the flipped triangle is.
+    Geometry g(std::move(repaired.mesh));
+    for (const Ray& r : {Ray{{0.5f, 1, -1}, {0, 0, 1}}, Ray{{0.5f, 1, 4}, {0, 0, -1}}, Ray{{-1, 1, 1.5f}, {1, 0, 0}},
+                         Ray{{2, 1, 1.5f}, {-1, 0, 0}}, Ray{{0.5f, -1, 1.5f}, {0, 1, 0}}, Ray{{0.5f, 3, 1.5f}, {0, -1, 0}}}) {
+        auto hit = g.intersect(r);
+        ASSERT_TRUE(hit) << r.o.x << " " << r.o.y << " " << r.o.z;
+        EXPECT_LT(dot(hit->ng, r.d), 0.0f) << r.o.x << " " << r.o.y << " " << r.o.z;
+    }
+    // Loading: refused as it is, repaired on request.
+    writeObj(soup, dir / "open.obj");
+    expectInputError([&] { loadMesh(dir / "open.obj"); }, "not closed");
+    EXPECT_EQ(loadMesh(dir / "open.obj", {}, true).triangleCount(), 12u);
 }
 
 TEST(MeshIo, OpenAndInvertedMeshes) {
