@@ -35,10 +35,12 @@ void validateClosedMesh(TriangleMesh& mesh, const std::string& file) {
         if (back == 0) ++open;
         else if (count != 1 || back != 1) ++misoriented;
     }
-    if (open) throw InputError(file, "mesh is not closed (" + std::to_string(open) + " boundary edges)");
+    if (open)
+        throw InputError(file, "mesh is not closed (" + std::to_string(open) +
+                                   " boundary edges; prepare --repair repairs it)");
     if (misoriented)
         throw InputError(file, "mesh is not a consistently oriented 2-manifold (" +
-                                   std::to_string(misoriented) + " bad edges)");
+                                   std::to_string(misoriented) + " bad edges; prepare --repair repairs it)");
     // Signed volume (divergence theorem): negative means inward normals.
     double volume = 0;
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
