@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/base64.h"
 #include "io/file_names.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
@@ -281,21 +282,6 @@ MeshAsset loadGltf(const std::filesystem::path& file) {
 
 
 namespace {
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t v = uint32_t(bytes[i]) << 16;
-        if (i + 1 < bytes.size()) v |= uint32_t(bytes[i + 1]) << 8;
-        if (i + 2 < bytes.size()) v |= bytes[i + 2];
-        out += table[(v >> 18) & 63];
-        out += table[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? table[v & 63] : '=';
-    }
-    return out;
-}
-
 template <class T>
 void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
     const auto* p = reinterpret_cast<const unsigned char*>(data);
@@ -374,7 +360,7 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
     using nlohmann::json;
     GltfDocument doc = meshDocument(mesh, look);
     json& gltf = doc.gltf;
-    gltf["buffers"] = {{{"byteLength", doc.buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(doc.buffer)}}};
+    gltf["buffers"] = {{{"byteLength", doc.buffer.size()}, {"uri", "data:application/octet-stream;base64," + base64(doc.buffer.data(), doc.buffer.size())}}};
     json& primitive = gltf["meshes"][0]["primitives"][0];
     if (!textureUri.empty() || !look.materials.empty()) {
         RGB f = look.materials.empty() ? RGB{1, 1, 1} : look.materials[0].baseColorFactor;

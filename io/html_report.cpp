@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/base64.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
 
@@ -13,22 +14,6 @@ namespace pl {
 const char* reportViewerScript();  // generated at build time (cmake/embed_text.cmake)
 
 namespace {
-
-std::string base64(const std::string& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    out.reserve((bytes.size() + 2) / 3 * 4);
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t v = uint32_t(uint8_t(bytes[i])) << 16;
-        if (i + 1 < bytes.size()) v |= uint32_t(uint8_t(bytes[i + 1])) << 8;
-        if (i + 2 < bytes.size()) v |= uint8_t(bytes[i + 2]);
-        out += table[(v >> 18) & 63];
-        out += table[(v >> 12) & 63];
-        out += i + 1 < bytes.size() ? table[(v >> 6) & 63] : '=';
-        out += i + 2 < bytes.size() ? table[v & 63] : '=';
-    }
-    return out;
-}
 
 std::string readBytes(const std::filesystem::path& file) {
     std::ifstream in(file, std::ios::binary);
@@ -45,7 +30,7 @@ void writeHtmlReport(const HtmlReport& report, const std::filesystem::path& file
         const std::string bytes = readBytes(m.glb);
         if (bytes.size() < 12 || bytes.compare(0, 4, "glTF") != 0)
             throw InputError(m.glb.string(), "not a glTF binary (.glb)");
-        data["models"].push_back({{"label", m.label}, {"glb", base64(bytes)}});
+        data["models"].push_back({{"label", m.label}, {"glb", base64(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size())}});
     }
     data["history"] = nlohmann::json::array();
     for (const auto& p : report.history) data["history"].push_back({{"iteration", p.iteration}, {"value", p.value}});
