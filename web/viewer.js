@@ -87,6 +87,25 @@ function main() {
   const container = document.getElementById('views');
   for (const model of data.models) addView(container, model, views);
   plotHistory(document.getElementById('history'), data.history, data.historyLabel || '');
+  // One view dragged turns them all: target, prediction and error stay
+  // side by side from the same viewpoint.
+  // (Only what a person drags is copied; the auto-rotation turns all
+  // views alike from there.)
+  let dragged = null;
+  for (const v of views) {
+    v.controls.addEventListener('start', () => { dragged = v; });
+    v.controls.addEventListener('end', () => { dragged = null; });
+    v.controls.addEventListener('change', () => {
+      if (dragged !== v) return;
+      for (const w of views)
+        if (w !== v && w.ready) {
+          w.camera.position.copy(v.camera.position);
+          w.camera.zoom = v.camera.zoom;
+          w.camera.updateProjectionMatrix();
+          w.controls.target.copy(v.controls.target);
+        }
+    });
+  }
   const animate = () => {
     for (const v of views) {
       const w = v.canvas.clientWidth, h = v.canvas.clientHeight;
