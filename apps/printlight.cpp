@@ -5,6 +5,7 @@
 #include "apps/code_fingerprint.h"
 #include "apps/commands.h"
 #include "io/input_error.h"
+#include "runtime/distributed.h"
 #include "runtime/interrupt.h"
 
 namespace pl {
@@ -66,10 +67,12 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (command == "--version") {
-        std::printf("printlight %s (code %s)\n", PRINTLIGHT_VERSION, pl::codeFingerprint().c_str());
+        std::printf("printlight %s (code %s%s)\n", PRINTLIGHT_VERSION, pl::codeFingerprint().c_str(),
+                    pl::Distributed::enabled() ? ", with MPI" : "");
         return 0;
     }
     std::vector<std::string> args(argv + 2, argv + argc);
+    pl::Distributed distributed(&argc, &argv);
     pl::installInterruptHandler();
     try {
         return pl::commandNamed(command).run(args);
@@ -80,10 +83,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");
         return 130;
     } catch (const pl::UsageError& e) {
+        if (pl::Distributed::rank() != 0) return 2;  // every rank has it: one line, from rank 0
         const std::string hint = " (see printlight " + command + " --help)";
         std::fprintf(stderr, "printlight: %s%s\n", e.what(), e.message.find("--help") == std::string::npos ? hint.c_str() : "");
         return 2;
     } catch (const std::exception& e) {
+        if (pl::Distributed::rank() != 0) return 1;  // failures reach rank 0 (anyRankFailed)
         std::fprintf(stderr, "printlight: error: %s\n", e.what());
         return 1;
     }

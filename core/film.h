@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "core/rgb.h"
@@ -121,6 +122,21 @@ public:
     float standardError(size_t pixel, int channel) const {
         return std::hypot(independentError(pixel, channel), sharedError(pixel, channel));
     }
+    // The accumulators of the listed pixels as bytes, and back into the
+    // same pixels of another film (a render split across processes is
+    // gathered pixel by pixel: the bits of one process's render).
+    std::vector<char> packPixels(const std::vector<uint32_t>& pixels) const {
+        std::vector<char> bytes(pixels.size() * sizeof(acc_[0]));
+        for (size_t i = 0; i < pixels.size(); ++i)
+            std::memcpy(bytes.data() + i * sizeof(acc_[0]), &acc_[pixels[i]], sizeof(acc_[0]));
+        return bytes;
+    }
+    static size_t packedBytesPerPixel() { return sizeof(std::array<Accumulator, kChannels>); }
+    void unpackPixels(const std::vector<uint32_t>& pixels, const char* bytes) {
+        for (size_t i = 0; i < pixels.size(); ++i)
+            std::memcpy(&acc_[pixels[i]], bytes + i * sizeof(acc_[0]), sizeof(acc_[0]));
+    }
+
     RGB meanRGB(size_t pixel) const {
         return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
     }

@@ -11,6 +11,7 @@ packages=(
   libopenimageio-dev libtbb-dev
   libtinygltf-dev nlohmann-json3-dev libgtest-dev zlib1g-dev
   pybind11-dev python3-dev python3-numpy libeigen3-dev libabsl-dev libassimp-dev libcgal-dev
+  libopenmpi-dev openmpi-bin
   assimp-testmodels chromium
 )
 # The report viewer's scripts come from the npm registry (web/package.json);

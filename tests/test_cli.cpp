@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstring>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
@@ -139,6 +140,43 @@ TEST(Cli, RendersStopAtATargetErrorOrATimeAndReproduceWithTheirSpp) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("stopped by time at "), std::string::npos) << r.out;
     EXPECT_EQ(s.render("--time -1").exitCode, 2);
+}
+
+// Across MPI ranks (when built with MPI and mpirun is there): the pixels
+// are split, rank 0 gathers and writes, and the result has the bits of the
+// one-process render; estimators whose particles serve every pixel are
+// refused for now.
+TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
+    TestScene s("mpi");
+    if (printlight("--version", s.dir).out.find("with MPI") == std::string::npos || std::system("command -v mpirun >/dev/null") != 0)
+        GTEST_SKIP() << "built without MPI or no mpirun";
+    const std::string mpirun = std::string("mpirun -n 2 --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "") +
+                               " " + PRINTLIGHT_EXE + " render " + s.write().string() + " --threads 1 ";
+    for (const char* integrator : {"volpath", "printpt"}) {
+        ASSERT_EQ(s.render(std::string("--spp 4 --integrator ") + integrator).exitCode, 0);
+        const RadianceImage one = readExr(s.out().string() + ".exr");
+        fs::remove_all(s.out().parent_path());
+        const std::string command = mpirun + "--spp 4 --integrator " + integrator + " -o " + s.out().string() + " >" +
+                                    (s.dir / "mpi.log").string() + " 2>&1";
+        ASSERT_EQ(std::system(command.c_str()), 0) << readText(s.dir / "mpi.log");
+        EXPECT_NE(readText(s.dir / "mpi.log").find("2 MPI ranks"), std::string::npos) << readText(s.dir / "mpi.log");
+        const RadianceImage two = readExr(s.out().string() + ".exr");
+        ASSERT_EQ(one.mean.size(), two.mean.size());
+        for (size_t i = 0; i < one.mean.size(); ++i) {
+            ASSERT_EQ(one.mean[i], two.mean[i]) << integrator << " " << i;
+            ASSERT_EQ(one.standardError[i], two.standardError[i]) << integrator << " " << i;
+        }
+        fs::remove_all(s.out().parent_path());
+    }
+    s.scene["sensor"]["footprint"] = "patch";
+    s.write();
+    const std::string refused = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
+                                (s.dir / "mpi.log").string() + " 2>&1";
+    EXPECT_NE(std::system(refused.c_str()), 0);
+    const std::string log = readText(s.dir / "mpi.log");
+    EXPECT_NE(log.find("does not run across MPI ranks yet"), std::string::npos) << log;
+    EXPECT_EQ(log.find("does not run"), log.rfind("does not run")) << "one error line, from rank 0: " << log;
+    EXPECT_FALSE(s.anyOutput());
 }
 
 TEST(Cli, CtrlCStopsPromptlyWritesNothingAndExits130) {

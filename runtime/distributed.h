@@ -1,0 +1,42 @@
+// Running one job across processes with MPI (Open MPI; optional at build
+// time: without it there is one process). Each rank loads the scene, renders
+// its share of the sensor's pixels, and rank 0 gathers the films and writes.
+// Every pixel is rendered whole by one rank with the random streams of a
+// one-process render, so the result has the same bits whatever the number
+// of ranks and threads.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/film.h"
+#include "integrators/integrator.h"
+
+namespace pl {
+
+class Distributed {
+public:
+    // MPI_Init / MPI_Finalize for the program's lifetime (main owns one).
+    Distributed(int* argc, char*** argv);
+    ~Distributed();
+    Distributed(const Distributed&) = delete;
+    Distributed& operator=(const Distributed&) = delete;
+
+    static int rank();   // 0 without MPI
+    static int ranks();  // 1 without MPI
+    static bool enabled();  // built with MPI
+};
+
+// The pixels rank r renders: chunks of 64 pixels dealt round the ranks (the
+// costs of neighbouring pixels are alike; dealt chunks spread them).
+std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
+
+// Gathers every rank's pixels of `film` and sums `stats` on rank 0 (the
+// other ranks' are left as they were). Collective: every rank calls it.
+void gatherOnRankZero(Film& film, PathStats& stats);
+
+// A failure on any rank fails them all: every rank calls it with whether it
+// failed; true if any did. Collective.
+bool anyRankFailed(bool failed);
+
+}  // namespace pl
