@@ -6,9 +6,12 @@
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "apps/code_fingerprint.h"
+#include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "compare/result_comparison.h"
 #include "scene/registry.h"
@@ -134,57 +137,78 @@ int batchCommand(const std::vector<std::string>& argv) {
         throw UsageError("-o and --compare name the same directory (the stored results would be overwritten)");
     std::filesystem::create_directories(dir);
 
+    // Under MPI the jobs are dealt round the ranks; each writes its own
+    // results and rank 0 gathers what each job printed and its CSV row.
+    const int rank = Distributed::rank(), ranks = Distributed::ranks();
     std::string code = codeFingerprint();
-    std::vector<JobOutcome> outcomes;
-    bool allPassed = true;
-    for (size_t j = 0; j < manifest.jobs.size(); ++j) {
-        const BatchJob& job = manifest.jobs[j];
-        SceneDescription& desc = descs[j];
-        auto t0 = std::chrono::steady_clock::now();
-        Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
-        std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
-        desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
-        RenderResult result = render(scene, *sensor, desc.render);
+    nlohmann::json done = nlohmann::json::array();
+    std::string failure;
+    try {
+        for (size_t j = size_t(rank); j < manifest.jobs.size(); j += size_t(ranks)) {
+            const BatchJob& job = manifest.jobs[j];
+            SceneDescription& desc = descs[j];
+            auto t0 = std::chrono::steady_clock::now();
+            Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
+            std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+            desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
+            RenderResult result = render(scene, *sensor, desc.render);
 
-        JobOutcome out;
-        out.pixels = sensor->pixelCount();
-        RadianceImage image = filmToPixelImage(result.film);
-        image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
-                          {"integrator", desc.render.integrator},
-                          {"sensor", desc.sensor.type},
-                          {"pixels", std::to_string(out.pixels)},
-                          {"spp", std::to_string(desc.render.spp)},
-                          {"seed", std::to_string(desc.render.seed)},
-                          {"channels", channelNames(desc.render.channels)},
-                          {"code", code}};
-        writeExr(image, dir / (job.name + ".exr"));
-        out.seconds = secondsSince(t0);
-        std::printf("batch [%zu/%zu] %s: %zu px x %u spp x %zu ch, %s, seed %llu, %.2f s\n", j + 1,
-                    manifest.jobs.size(), job.name.c_str(), out.pixels, desc.render.spp,
-                    desc.render.channels.size(), desc.render.integrator.c_str(),
-                    (unsigned long long)desc.render.seed, out.seconds);
-        if (compareDir) {
-            compareWithStored(image, out.pixels, desc.render.channels, *compareDir / (job.name + ".exr"), limits, out);
-            std::printf("  compare (%s): %s -> %s\n", out.mode.c_str(),
-                        describeComparison(out, desc.render.channels).c_str(), out.passed ? "pass" : "FAIL");
+            JobOutcome out;
+            out.pixels = sensor->pixelCount();
+            RadianceImage image = filmToPixelImage(result.film);
+            image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
+                              {"integrator", desc.render.integrator},
+                              {"sensor", desc.sensor.type},
+                              {"pixels", std::to_string(out.pixels)},
+                              {"spp", std::to_string(desc.render.spp)},
+                              {"seed", std::to_string(desc.render.seed)},
+                              {"channels", channelNames(desc.render.channels)},
+                              {"code", code}};
+            writeExr(image, dir / (job.name + ".exr"));
+            out.seconds = secondsSince(t0);
+            char line[512];
+            std::snprintf(line, sizeof line, "batch [%zu/%zu] %s: %zu px x %u spp x %zu ch, %s, seed %llu, %.2f s\n", j + 1,
+                          manifest.jobs.size(), job.name.c_str(), out.pixels, desc.render.spp,
+                          desc.render.channels.size(), desc.render.integrator.c_str(),
+                          (unsigned long long)desc.render.seed, out.seconds);
+            std::string printed = line;
+            if (compareDir) {
+                compareWithStored(image, out.pixels, desc.render.channels, *compareDir / (job.name + ".exr"), limits, out);
+                printed += "  compare (" + out.mode + "): " + describeComparison(out, desc.render.channels) + " -> " +
+                           (out.passed ? "pass" : "FAIL") + "\n";
+            }
+            if (ranks == 1) {
+                std::fputs(printed.c_str(), stdout);
+                std::fflush(stdout);
+            }
+            std::ostringstream row;
+            row << job.name << ',' << job.sceneFile.string() << ',' << desc.render.integrator << ',' << desc.render.spp
+                << ',' << desc.render.seed << ',' << channelNames(desc.render.channels) << ',' << out.pixels << ','
+                << out.seconds << ',' << out.mode << ',' << out.comparison.outlierFraction();
+            for (double b : out.comparison.bias) row << ',' << b;
+            for (double z : out.comparison.biasZ) row << ',' << z;
+            row << ',' << (compareDir ? (out.passed ? "pass" : "fail") : "-") << '\n';
+            done.push_back({{"job", j}, {"passed", out.passed}, {"printed", printed}, {"row", row.str()}});
         }
-        std::fflush(stdout);
-        allPassed = allPassed && out.passed;
-        outcomes.push_back(out);
+    } catch (const std::exception& e) {
+        failure = e.what();
     }
+    if (anyRankFailed(!failure.empty())) throw std::runtime_error(failure.empty() ? "another MPI rank failed" : failure);
+    const std::vector<std::string> fromRanks = gatherTextOnRankZero(done.dump());
+    if (rank != 0) return 0;
 
+    // In job order, whichever rank rendered each.
+    std::vector<nlohmann::json> byJob(manifest.jobs.size());
+    for (const std::string& text : fromRanks)
+        for (const auto& entry : nlohmann::json::parse(text)) byJob[entry["job"].get<size_t>()] = entry;
+    bool allPassed = true;
     std::ostringstream csv;
     csv << "name,scene,integrator,spp,seed,channels,pixels,seconds,compare,outlier_fraction,"
            "bias_r,bias_g,bias_b,bias_z_r,bias_z_g,bias_z_b,verdict\n";
-    for (size_t j = 0; j < outcomes.size(); ++j) {
-        const JobOutcome& o = outcomes[j];
-        const SceneDescription& d = descs[j];
-        csv << manifest.jobs[j].name << ',' << manifest.jobs[j].sceneFile.string() << ',' << d.render.integrator
-            << ',' << d.render.spp << ',' << d.render.seed << ',' << channelNames(d.render.channels) << ','
-            << o.pixels << ',' << o.seconds << ',' << o.mode << ',' << o.comparison.outlierFraction();
-        for (double b : o.comparison.bias) csv << ',' << b;
-        for (double z : o.comparison.biasZ) csv << ',' << z;
-        csv << ',' << (compareDir ? (o.passed ? "pass" : "fail") : "-") << '\n';
+    for (const nlohmann::json& entry : byJob) {
+        if (ranks > 1) std::fputs(entry["printed"].get<std::string>().c_str(), stdout);
+        csv << entry["row"].get<std::string>();
+        allPassed = allPassed && entry["passed"].get<bool>();
     }
     writeTextFile(dir / "batch.csv", csv.str());
     if (compareDir)

@@ -68,6 +68,26 @@ void gatherOnRankZero(Film& film, PathStats& stats) {
     }
 }
 
+std::vector<std::string> gatherTextOnRankZero(const std::string& mine) {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    if (n == 1) return {mine};
+    if (me != 0) {
+        const uint64_t size = mine.size();
+        MPI_Send(&size, 1, MPI_UINT64_T, 0, 3, MPI_COMM_WORLD);
+        MPI_Send(mine.data(), int(size), MPI_CHAR, 0, 4, MPI_COMM_WORLD);
+        return {};
+    }
+    std::vector<std::string> all{mine};
+    for (int r = 1; r < n; ++r) {
+        uint64_t size = 0;
+        MPI_Recv(&size, 1, MPI_UINT64_T, r, 3, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        std::string text(size, '\0');
+        MPI_Recv(text.data(), int(size), MPI_CHAR, r, 4, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        all.push_back(std::move(text));
+    }
+    return all;
+}
+
 bool anyRankFailed(bool failed) {
     if (!active) return failed;
     int mine = failed ? 1 : 0, any = 0;
@@ -83,6 +103,7 @@ int Distributed::rank() { return 0; }
 int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
 void gatherOnRankZero(Film&, PathStats&) {}
+std::vector<std::string> gatherTextOnRankZero(const std::string& mine) { return {mine}; }
 bool anyRankFailed(bool failed) { return failed; }
 
 #endif

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/film.h"
@@ -34,6 +35,10 @@ std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
 // Gathers every rank's pixels of `film` and sums `stats` on rank 0 (the
 // other ranks' are left as they were). Collective: every rank calls it.
 void gatherOnRankZero(Film& film, PathStats& stats);
+
+// Every rank's text, in rank order, on rank 0 (empty elsewhere).
+// Collective.
+std::vector<std::string> gatherTextOnRankZero(const std::string& mine);
 
 // A failure on any rank fails them all: every rank calls it with whether it
 // failed; true if any did. Collective.

@@ -168,6 +168,25 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
         }
         fs::remove_all(s.out().parent_path());
     }
+    // batch: the jobs dealt round the ranks, the same results and one CSV.
+    writeText(s.dir / "manifest.json", R"({"renders": [
+        {"name": "a", "scene": "scene.json", "spp": 2, "seed": 5, "channel": "rgb"},
+        {"name": "b", "scene": "scene.json", "spp": 2, "seed": 6, "channel": "g"},
+        {"name": "c", "scene": "scene.json", "spp": 3, "seed": 7, "channel": "rgb"}]})");
+    ASSERT_EQ(printlight("batch " + (s.dir / "manifest.json").string() + " -o " + (s.dir / "one").string(), s.dir).exitCode, 0);
+    const std::string batch = std::string("mpirun -n 2 --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "") +
+                              " " + PRINTLIGHT_EXE + " batch " + (s.dir / "manifest.json").string() + " -o " +
+                              (s.dir / "two").string() + " --compare " + (s.dir / "one").string() + " >" +
+                              (s.dir / "batch.log").string() + " 2>&1";
+    ASSERT_EQ(std::system(batch.c_str()), 0) << readText(s.dir / "batch.log");
+    const std::string batchLog = readText(s.dir / "batch.log");
+    EXPECT_NE(batchLog.find("all results agree"), std::string::npos) << batchLog;
+    EXPECT_EQ(std::count(batchLog.begin(), batchLog.end(), '['), 3) << batchLog;  // each job reported once
+    EXPECT_EQ(std::count(batchLog.begin(), batchLog.end(), '\n'), 7) << batchLog;
+    const std::string csv = readText(s.dir / "two" / "batch.csv");
+    EXPECT_LT(csv.find("\na,"), csv.find("\nb,"));
+    EXPECT_LT(csv.find("\nb,"), csv.find("\nc,"));
+
     s.scene["sensor"]["footprint"] = "patch";
     s.write();
     const std::string refused = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
