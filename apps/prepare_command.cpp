@@ -123,7 +123,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
     auto t0 = std::chrono::steady_clock::now();
     MeshRepairSummary repaired;
     const bool repair = args.has("--repair");
-    // As in the file; scaled (and repaired) below, as loadMeshAsset does for the scene.
+    // In the file's coordinates (repaired there, as the scene's load does);
+    // scaled below, once the model's size is known.
     MeshAsset asset = loadMeshAsset(model, MeshPlacement{LengthUnit::Millimetre, 1.0}, repair ? &repaired : nullptr);
     MeshPlacement placement;
     if (auto u = args.value("--units")) placement.unit = parseLengthUnit(*u);
@@ -134,13 +135,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     const Vec3f fileExtent = fileBounds.hi - fileBounds.lo;
     const double largestSide = std::max(fileExtent.x, std::max(fileExtent.y, fileExtent.z)) * millimetresPer(unit);
     if (fitMm) placement.scale = *fitMm / largestSide;
-    if (repair) {
-        // Again from the file, scaled first: the scene repairs what it loads the same way.
-        repaired = {};
-        asset = loadMeshAsset(model, placement, &repaired);
-    } else {
-        scaleMesh(asset.mesh, placement.millimetresPerFileUnit(model));
-    }
+    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(model));
     const double side_mm = largestSide * placement.scale;
     const double toMm = millimetresPer(unit) * placement.scale;
     char fitted[96] = "";

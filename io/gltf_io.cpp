@@ -223,12 +223,15 @@ Texture textureFromGltfImage(const tinygltf::Image& im, const std::string& name)
 MeshAsset loadGltf(const std::filesystem::path& file) {
     const std::string name = file.string();
     if (!std::filesystem::exists(file)) throw InputError(name, "cannot open file");
-    if (isGltf1(file)) throw InputError(name, "glTF 1.0 is not supported (only glTF 2.0; convert it, e.g. with Blender)");
     tinygltf::TinyGLTF loader;
     tinygltf::Model model;
     std::string err, warn;
     bool ok = lowerExtension(file) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, name)
                                               : loader.LoadASCIIFromFile(&model, &err, &warn, name);
+    // Only a file tinygltf refused or that does not say 2.x is read again
+    // to see whether it is glTF 1.0 (a 2.0 model is parsed once).
+    if ((!ok || model.asset.version.rfind("2", 0) != 0) && isGltf1(file))
+        throw InputError(name, "glTF 1.0 is not supported (only glTF 2.0; convert it, e.g. with Blender)");
     if (!ok) {
         std::string msg = err.empty() ? "cannot read glTF" : err;
         for (char& c : msg) if (c == '\n') c = ' ';

@@ -73,13 +73,15 @@ MeshAsset loadMeshAsset(const std::filesystem::path& file, const MeshPlacement& 
     else if (ext == ".gltf" || ext == ".glb") asset = loadGltf(file);
     else if (ext == ".stl" || ext == ".ply" || ext == ".3mf") asset = loadWithAssimp(file);
     else throw InputError(file.string(), "unknown mesh format (expected .gltf, .glb, .obj, .stl, .ply or .3mf)");
-    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(file));
     // A repaired mesh is closed and oriented outwards (its triangles keep
-    // their own vertices, so the index-based check does not apply).
+    // their own vertices, so the index-based check does not apply). Both
+    // work in the file's coordinates: the placement scales last, so that
+    // prepare can measure the model before it chooses a scale.
     if (repaired)
         asset = repairMesh(asset, file.string(), *repaired);
     else
         validateClosedMesh(asset.mesh, file.string());
+    scaleMesh(asset.mesh, placement.millimetresPerFileUnit(file));
     return asset;
 }
 
