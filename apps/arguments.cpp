@@ -1,6 +1,7 @@
 #include "apps/arguments.h"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include <CLI/CLI.hpp>
 
@@ -53,6 +54,15 @@ std::optional<int64_t> Arguments::integer(const std::string& name, int64_t lo, i
     }
     if (used != v->size() || x < lo || x > hi)
         throw UsageError(name + " must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+    return x;
+}
+
+std::optional<double> Arguments::number(const std::string& name) const {
+    auto v = value(name);
+    if (!v) return std::nullopt;
+    char* end = nullptr;
+    const double x = std::strtod(v->c_str(), &end);
+    if (v->empty() || end != v->c_str() + v->size()) throw UsageError(name + " takes a number");
     return x;
 }
 

@@ -34,6 +34,9 @@ public:
         return it == values_.end() ? std::nullopt : std::optional<std::string>(it->second);
     }
     std::optional<int64_t> integer(const std::string& name, int64_t lo, int64_t hi) const;
+    // The option's value as a number (UsageError "NAME takes a number" if
+    // it is not one); the range is the caller's to check.
+    std::optional<double> number(const std::string& name) const;
 
 private:
     std::vector<std::string> positional_;

@@ -113,10 +113,9 @@ int batchCommand(const std::vector<std::string>& argv) {
     uint64_t seedOffset = uint64_t(args.integer("--seed-offset", 0, int64_t(1) << 40).value_or(0));
     ThreadLimit threadLimit(args);
     ComparisonLimits limits;
-    if (auto f = args.value("--max-outlier-fraction")) {
-        char* end = nullptr;
-        limits.maxOutlierFraction = std::strtod(f->c_str(), &end);
-        if (end != f->c_str() + f->size() || !(limits.maxOutlierFraction >= 0 && limits.maxOutlierFraction <= 1))
+    if (auto f = args.number("--max-outlier-fraction")) {
+        limits.maxOutlierFraction = *f;
+        if (!(limits.maxOutlierFraction >= 0 && limits.maxOutlierFraction <= 1))
             throw UsageError("--max-outlier-fraction must be a number in 0..1");
     }
     bool quiet = args.has("--quiet");

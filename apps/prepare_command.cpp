@@ -67,16 +67,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     PrepareSettings ps;
     if (auto v = args.value("--voxel")) ps.voxel_mm = parseTriple("--voxel", *v);
     auto number = [&](const char* opt, float fallback, float lo, float hi) {
-        auto v = args.value(opt);
-        if (!v) return fallback;
-        float x;
-        try {
-            size_t used;
-            x = std::stof(*v, &used);
-            if (used != v->size()) throw std::invalid_argument("");
-        } catch (const std::exception&) {
-            throw UsageError(std::string(opt) + " takes a number");
-        }
+        const float x = float(args.number(opt).value_or(fallback));
         if (!(x >= lo && x <= hi)) throw UsageError(std::string(opt) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
         return x;
     };

@@ -66,13 +66,9 @@ int renderCommand(const std::vector<std::string>& argv) {
 
     SceneDescription desc = parseScene(args.positional()[0]);
     applyRenderOptions(args, desc.render);
-    auto positiveNumber = [&](const char* option) -> std::optional<double> {
-        auto v = args.value(option);
-        if (!v) return std::nullopt;
-        char* end = nullptr;
-        const double x = std::strtod(v->c_str(), &end);
-        if (end != v->c_str() + v->size() || !(x > 0) || !std::isfinite(x))
-            throw UsageError(std::string(option) + " takes a positive number");
+    auto positiveNumber = [&](const char* option) {
+        const std::optional<double> x = args.number(option);
+        if (x && !(*x > 0 && std::isfinite(*x))) throw UsageError(std::string(option) + " takes a positive number");
         return x;
     };
     if (auto t = positiveNumber("--time")) desc.render.timeBudget_s = *t;
