@@ -43,6 +43,14 @@ private:
     std::map<std::string, std::string> values_;  // by the option's first name; "" for a flag
 };
 
+// The parts of a list option's value, e.g. "a,b,c" (empty parts kept).
+inline std::vector<std::string> splitList(const std::string& text, char sep = ',') {
+    std::vector<std::string> parts;
+    std::stringstream in(text);
+    for (std::string part; std::getline(in, part, sep);) parts.push_back(part);
+    return parts;
+}
+
 // "x,y,z" as three numbers (UsageError naming the option otherwise).
 inline Vec3f parseTriple(const std::string& option, const std::string& text) {
     Vec3f v;

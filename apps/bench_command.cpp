@@ -110,14 +110,6 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     return c;
 }
 
-std::vector<std::string> splitList(const std::string& s, char sep = ',') {
-    std::vector<std::string> out;
-    std::stringstream ss(s);
-    std::string item;
-    while (std::getline(ss, item, sep)) out.push_back(item);
-    return out;
-}
-
 // A named configuration with printpt switches overridden after slashes,
 // e.g. "printpt/k=1/rr_threshold=0.2/nee=1". Keys are the scene file's
 // render keys; nullopt for an unknown name.

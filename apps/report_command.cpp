@@ -14,13 +14,6 @@ namespace pl {
 
 namespace {
 
-std::vector<std::string> splitCommas(const std::string& text) {
-    std::vector<std::string> parts;
-    std::stringstream in(text);
-    for (std::string part; std::getline(in, part, ',');) parts.push_back(part);
-    return parts;
-}
-
 // The named column of a CSV file with a header line (optimize's PREFIX.csv),
 // against its first column.
 std::vector<HtmlReport::Point> readHistory(const std::filesystem::path& file, const std::string& column) {
@@ -28,13 +21,13 @@ std::vector<HtmlReport::Point> readHistory(const std::filesystem::path& file, co
     if (!in) throw InputError(file.string(), "cannot open file");
     std::string line;
     if (!std::getline(in, line)) throw InputError(file.string(), "empty file");
-    const std::vector<std::string> header = splitCommas(line);
+    const std::vector<std::string> header = splitList(line);
     size_t at = 0;
     while (at < header.size() && header[at] != column) ++at;
     if (at == header.size()) throw InputError(file.string(), "no column '" + column + "'");
     std::vector<HtmlReport::Point> points;
     for (int row = 2; std::getline(in, line); ++row) {
-        const std::vector<std::string> cells = splitCommas(line);
+        const std::vector<std::string> cells = splitList(line);
         try {
             if (cells.size() != header.size()) throw std::invalid_argument("");
             points.push_back({std::stod(cells[0]), std::stod(cells[at])});
@@ -61,7 +54,7 @@ int reportCommand(const std::vector<std::string>& argv) {
     HtmlReport report;
     report.title = args.value("--title").value_or("printlight prediction");
     report.summary = args.value("--summary").value_or("");
-    std::vector<std::string> labels = splitCommas(args.value("--labels").value_or(""));
+    std::vector<std::string> labels = splitList(args.value("--labels").value_or(""));
     if (args.has("--labels") && labels.size() != args.positional().size())
         throw UsageError("--labels needs one caption per model");
     std::vector<std::filesystem::path> inputs;
