@@ -156,7 +156,7 @@ SurfacePrediction Predictor::predict() {
                     active.push_back(uint32_t(p));
             if (active.empty()) break;
             uint32_t more = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
-            renderSamples(*integrator, state_->scene, sensor, rs, active, done, more, r);
+            renderSamples(*integrator, state_->scene, sensor, rs, PixelShare{active}, done, more, r);
             done += more;
         }
     }

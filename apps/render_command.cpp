@@ -92,7 +92,6 @@ int renderCommand(const std::vector<std::string>& argv) {
     // Under MPI only rank 0 speaks and writes.
     const int rank = Distributed::rank(), ranks = Distributed::ranks();
     bool quiet = args.has("--quiet") || rank != 0;
-    if (ranks > 1 && progressive) throw UsageError("--time and --target-error do not run across MPI ranks yet");
     const RenderSettings& rs = desc.render;
     Scene scene = loadScene(desc, sceneNeedsOf(rs));
     if (sceneNeedsOf(rs).surfaceFields && !scene.medium->hasSurfaceFields())
@@ -129,33 +128,15 @@ int renderCommand(const std::vector<std::string>& argv) {
         writeExr(image, outputs[0]);
         writePng(image, outputs[1]);
     };
+    // Across MPI ranks each renders its share of the pixels and rank 0
+    // gathers, writes and speaks.
+    const bool acrossRanks = ranks > 1;
     RenderResult result;
     uint32_t sppDone = desc.render.spp;
     std::string stopped;
-    if (ranks > 1) {
-        // This rank's share of the pixels; rank 0 gathers the films.
-        result = RenderResult{Film(sensor->pixelCount()), {}, 0};
-        const auto start = std::chrono::steady_clock::now();
-        std::unique_ptr<Integrator> integrator = makeIntegrator(scene, *sensor, desc.render);
-        if (integrator->scoresLightPaths())
-            throw UsageError(desc.render.integrator + " does not run across MPI ranks yet (its particles serve every pixel)");
-        std::string failure;
-        try {
-            renderSamples(*integrator, scene, *sensor, desc.render, pixelsOfRank(sensor->pixelCount(), rank, ranks), 0,
-                          desc.render.spp, result);
-        } catch (const std::exception& e) {
-            failure = e.what();
-        }
-        if (anyRankFailed(!failure.empty()))
-            throw std::runtime_error(failure.empty() ? "another MPI rank failed" : failure);
-        gatherOnRankZero(result.film, result.stats);
+    if (progressive) {
+        ProgressiveRender p = renderProgressively(scene, *sensor, desc.render, writeImages, acrossRanks);
         if (rank != 0) return 0;
-        result.film.poolResiduals();
-        result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        writeImages(result, sppDone);
-        stopped = ", " + std::to_string(ranks) + " MPI ranks";
-    } else if (progressive) {
-        ProgressiveRender p = renderProgressively(scene, *sensor, desc.render, writeImages);
         result = std::move(p.result);
         sppDone = p.spp;
         char line[160];
@@ -163,9 +144,11 @@ int renderCommand(const std::vector<std::string>& argv) {
                       p.spp, p.medianRelativeError);
         stopped = line;
     } else {
-        result = render(scene, *sensor, desc.render);
+        result = render(scene, *sensor, desc.render, acrossRanks);
+        if (rank != 0) return 0;
         writeImages(result, sppDone);
     }
+    if (acrossRanks) stopped += ", " + std::to_string(ranks) + " MPI ranks";
     if (surface) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())

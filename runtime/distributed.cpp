@@ -68,6 +68,33 @@ void gatherOnRankZero(Film& film, PathStats& stats) {
     }
 }
 
+std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t pixelCount, int blocks) {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    if (n == 1) return {std::move(mine)};
+    std::vector<double> send;
+    std::vector<int> sendCounts(size_t(n), 0), sendOffsets(size_t(n), 0);
+    for (int q = 0; q < n; ++q) {
+        const std::vector<uint32_t> theirs = pixelsOfRank(pixelCount, q, n);
+        sendOffsets[size_t(q)] = int(send.size());
+        if (me >= blocks) continue;
+        for (uint32_t p : theirs) send.push_back(mine[p]);
+        sendCounts[size_t(q)] = int(theirs.size());
+    }
+    const int own = int(pixelsOfRank(pixelCount, me, n).size());
+    std::vector<double> received(size_t(own) * size_t(blocks));
+    std::vector<int> receiveCounts(size_t(n), 0), receiveOffsets(size_t(n), 0);
+    for (int r = 0; r < blocks; ++r) {
+        receiveCounts[size_t(r)] = own;
+        receiveOffsets[size_t(r)] = r * own;
+    }
+    MPI_Alltoallv(send.data(), sendCounts.data(), sendOffsets.data(), MPI_DOUBLE, received.data(),
+                  receiveCounts.data(), receiveOffsets.data(), MPI_DOUBLE, MPI_COMM_WORLD);
+    std::vector<std::vector<double>> out(static_cast<size_t>(blocks));
+    for (int r = 0; r < blocks; ++r)
+        out[size_t(r)].assign(received.begin() + long(r) * own, received.begin() + long(r + 1) * own);
+    return out;
+}
+
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return {mine};
@@ -88,6 +115,11 @@ std::vector<std::string> gatherTextOnRankZero(const std::string& mine) {
     return all;
 }
 
+uint32_t broadcastFromRankZero(uint32_t value) {
+    if (active) MPI_Bcast(&value, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
+    return value;
+}
+
 bool anyRankFailed(bool failed) {
     if (!active) return failed;
     int mine = failed ? 1 : 0, any = 0;
@@ -103,7 +135,9 @@ int Distributed::rank() { return 0; }
 int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
 void gatherOnRankZero(Film&, PathStats&) {}
+std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t, int) { return {std::move(mine)}; }
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) { return {mine}; }
+uint32_t broadcastFromRankZero(uint32_t value) { return value; }
 bool anyRankFailed(bool failed) { return failed; }
 
 #endif

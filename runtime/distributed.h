@@ -36,9 +36,19 @@ std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
 // other ranks' are left as they were). Collective: every rank calls it.
 void gatherOnRankZero(Film& film, PathStats& stats);
 
+// Light blocks shared round the ranks (scene/render.cpp): in a wave of
+// `blocks` blocks, rank r < blocks has computed block r over every pixel
+// (`mine`; the others pass an empty vector). Every rank receives each
+// block's values at its own pixels (in pixelsOfRank's order), in block
+// order. Collective. One process: {mine}.
+std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t pixelCount, int blocks);
+
 // Every rank's text, in rank order, on rank 0 (empty elsewhere).
 // Collective.
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine);
+
+// Rank 0's value, on every rank. Collective.
+uint32_t broadcastFromRankZero(uint32_t value);
 
 // A failure on any rank fails them all: every rank calls it with whether it
 // failed; true if any did. Collective.

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "io/image_io.h"
+#include "runtime/distributed.h"
 
 namespace pl {
 
@@ -34,39 +35,52 @@ double medianRelativeError(const Film& film, const Sensor& sensor, const Radianc
 }
 
 ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                      const std::function<void(const RenderResult&, uint32_t)>& onRound) {
+                                      const std::function<void(const RenderResult&, uint32_t)>& onRound,
+                                      bool acrossRanks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
     ProgressiveRender out{RenderResult{Film(sensor.pixelCount()), {}, 0}, 0, 0, "spp"};
+    const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    const bool decides = !share.acrossRanks || Distributed::rank() == 0;
     std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
     const bool timed = settings.timeBudget_s > 0, targeted = settings.targetRelativeError > 0;
-    uint32_t round = 1;
-    for (;;) {
-        round = std::min(round, settings.spp - out.spp);
-        renderSamples(*integrator, scene, sensor, settings, {}, out.spp, round, out.result);
-        out.spp += round;
-        out.result.seconds = elapsed();
-        out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
-        if (onRound) onRound(out.result, out.spp);
-        if (out.spp >= settings.spp) break;
+    // After a round (on the rank that decides): the next round's samples,
+    // 0 to stop. Double (an image after each round), or fewer where the
+    // target asks for fewer (error falls as 1 / sqrt(samples)), within the
+    // time left.
+    auto nextRound = [&]() -> uint32_t {
+        if (out.spp >= settings.spp) return 0;
         if (targeted && out.medianRelativeError <= settings.targetRelativeError) {
             out.stoppedBy = "target error";
-            break;
+            return 0;
         }
         const double perSample = out.result.seconds / out.spp;
         if (timed && out.result.seconds + perSample >= settings.timeBudget_s) {
             out.stoppedBy = "time";
-            break;
+            return 0;
         }
-        // Double (an image after each round), or fewer where the target
-        // asks for fewer (error falls as 1 / sqrt(samples)), within the
-        // time left.
         double next = out.spp;
         if (targeted && std::isfinite(out.medianRelativeError))
             next = std::min(next, std::max(1.0, std::ceil(out.spp * (std::pow(out.medianRelativeError / settings.targetRelativeError, 2) - 1.0))));
         if (timed) next = std::min(next, std::floor((settings.timeBudget_s - out.result.seconds) / perSample));
-        round = uint32_t(std::clamp(next, 1.0, double(settings.spp)));
+        return uint32_t(std::clamp(next, 1.0, double(settings.spp - out.spp)));
+    };
+    PathStats ownStats;  // this rank's, over the rounds
+    for (uint32_t round = 1; round > 0;) {
+        out.result.stats = ownStats;
+        renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result);
+        ownStats = out.result.stats;
+        out.spp += round;
+        out.result.stats = gatherShares(out.result, share);
+        out.result.seconds = elapsed();
+        uint32_t next = 0;
+        if (decides) {
+            out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
+            if (onRound) onRound(out.result, out.spp);
+            next = nextRound();
+        }
+        round = share.acrossRanks ? broadcastFromRankZero(next) : next;
     }
     return out;
 }

@@ -32,8 +32,12 @@ struct ProgressiveRender {
     std::string stoppedBy;             // "spp", "time" or "target error"
 };
 
-// onRound(result, spp) after each round.
+// onRound(result, spp) after each round. acrossRanks: every MPI rank
+// renders its share of the pixels; rank 0 gathers them after each round,
+// calls onRound and decides the next round for all (the other ranks
+// return their share, without calling onRound).
 ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                      const std::function<void(const RenderResult&, uint32_t)>& onRound);
+                                      const std::function<void(const RenderResult&, uint32_t)>& onRound,
+                                      bool acrossRanks = false);
 
 }  // namespace pl

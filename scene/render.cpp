@@ -2,9 +2,13 @@
 
 #include "scene/registry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 
+#include "runtime/distributed.h"
 #include "runtime/interrupt.h"
 #include "runtime/progress.h"
 #include "runtime/scheduler.h"
@@ -20,33 +24,49 @@ std::vector<int> passesOf(const RenderSettings& settings) {
 
 // One channel's samples with light paths (Integrator::scoreLightBlock):
 // sample by sample, the block of light paths, then every pixel's camera
-// sample plus what the block scored there.
+// sample plus what the block scored there. Across MPI ranks the samples
+// go in waves of one block per rank, each rank receiving every block's
+// scores at its own pixels (runtime/distributed.h): a pixel's samples are
+// the same sums in the same order as in one process.
 void renderWithLightPaths(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
-                          const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
+                          const RenderSettings& settings, const PixelShare& share, uint32_t firstSample,
                           uint32_t count, int channel, ProgressBar& progress, RenderResult& result) {
+    const std::vector<uint32_t>& pixels = share.pixels;
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
-    std::vector<double> light(sensor.pixelCount());
+    const int ranks = share.acrossRanks ? Distributed::ranks() : 1, rank = share.acrossRanks ? Distributed::rank() : 0;
     std::mutex statsMutex;
-    for (uint32_t s = firstSample; s < firstSample + count; ++s) {
-        std::fill(light.begin(), light.end(), 0.0);
-        integrator.scoreLightBlock(channel, s, light, result.stats);
-        parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-            LabelMedium::Sampler medium(*scene.medium, settings.majorants);
-            PathStats stats;
-            for (size_t i = begin; i < end; ++i) {
-                if (interruptRequested()) return;
-                const size_t p = pixels.empty() ? i : pixels[i];
-                Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
-                float u0 = rng.uniform(), u1 = rng.uniform();
-                ChannelSample sample =
-                    integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
-                sample.value += float(light[p]);
-                result.film.add(p, channel, sample);
-            }
-            progress.advance(end - begin);
-            std::lock_guard<std::mutex> lock(statsMutex);
-            result.stats += stats;
-        });
+    for (uint32_t wave = firstSample; wave < firstSample + count; wave += uint32_t(ranks)) {
+        const int blocks = int(std::min<uint32_t>(uint32_t(ranks), firstSample + count - wave));
+        std::vector<double> mine;
+        if (rank < blocks) {
+            mine.assign(sensor.pixelCount(), 0.0);
+            integrator.scoreLightBlock(channel, wave + uint32_t(rank), mine, result.stats);
+        }
+        // Across ranks: indexed like `pixels` (this rank's share); in one
+        // process: by pixel.
+        const std::vector<std::vector<double>> light =
+            share.acrossRanks ? shareBlocksByPixel(std::move(mine), sensor.pixelCount(), blocks)
+                              : std::vector<std::vector<double>>{std::move(mine)};
+        for (int k = 0; k < blocks; ++k) {
+            const uint32_t s = wave + uint32_t(k);
+            parallelForTiles(n, 64, [&](size_t begin, size_t end) {
+                LabelMedium::Sampler medium(*scene.medium, settings.majorants);
+                PathStats stats;
+                for (size_t i = begin; i < end; ++i) {
+                    if (interruptRequested()) return;
+                    const size_t p = pixels.empty() ? i : pixels[i];
+                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
+                    float u0 = rng.uniform(), u1 = rng.uniform();
+                    ChannelSample sample =
+                        integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
+                    sample.value += float(light[size_t(k)][share.acrossRanks ? i : p]);
+                    result.film.add(p, channel, sample);
+                }
+                progress.advance(end - begin);
+                std::lock_guard<std::mutex> lock(statsMutex);
+                result.stats += stats;
+            });
+        }
     }
 }
 
@@ -59,10 +79,16 @@ std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sen
     return integrator;
 }
 
+PixelShare PixelShare::ofThisRank(size_t pixelCount) {
+    if (Distributed::ranks() == 1) return {};
+    return {pixelsOfRank(pixelCount, Distributed::rank(), Distributed::ranks()), true};
+}
+
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
-                   const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
-                   uint32_t count, RenderResult& result) {
+                   const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
+                   RenderResult& result) {
     auto start = std::chrono::steady_clock::now();
+    const std::vector<uint32_t>& pixels = share.pixels;
     const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
     const std::vector<int> passes = passesOf(settings);
     ProgressBar progress(uint64_t(n) * passes.size() * count, "rendering", settings.showProgress);
@@ -70,7 +96,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     for (int channel : passes) {
         const auto passStart = std::chrono::steady_clock::now();
         if (integrator.scoresLightPaths())
-            renderWithLightPaths(integrator, scene, sensor, settings, pixels, firstSample, count, channel, progress,
+            renderWithLightPaths(integrator, scene, sensor, settings, share, firstSample, count, channel, progress,
                                  result);
         else parallelForTiles(n, 64, [&](size_t begin, size_t end) {
             LabelMedium::Sampler medium(*scene.medium, settings.majorants);
@@ -128,12 +154,30 @@ bool rendersChannelsInOnePass(const RenderSettings& settings) {
     return seen[0] && seen[1] && seen[2];
 }
 
-RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
+PathStats gatherShares(RenderResult& result, const PixelShare& share) {
+    PathStats all = result.stats;
+    if (!share.acrossRanks) return all;
+    gatherOnRankZero(result.film, all);
+    if (Distributed::rank() == 0) result.film.poolResiduals();
+    return all;
+}
+
+RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
     RenderResult result{Film(sensor.pixelCount()), {}, 0};
     const auto start = std::chrono::steady_clock::now();
-    std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
-    result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    renderSamples(*integrator, scene, sensor, settings, {}, 0, settings.spp, result);
+    const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    std::string failure;
+    try {
+        std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
+        renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
+    } catch (const std::exception& e) {
+        if (!share.acrossRanks) throw;
+        failure = e.what();
+    }
+    if (share.acrossRanks && anyRankFailed(!failure.empty()))
+        throw std::runtime_error(failure.empty() ? "another MPI rank failed" : failure);
+    result.stats = gatherShares(result, share);
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }
 

@@ -46,7 +46,9 @@ struct RenderResult {
     RGB passSeconds{0, 0, 0};
 };
 
-RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
+// acrossRanks: every MPI rank renders its share of the pixels and rank 0
+// gathers the result (the others return their share).
+RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks = false);
 
 // The integrator the settings name, made for this scene and sensor and
 // ready to render them (printpt has surveyed the sensor): it lives as long
@@ -57,15 +59,32 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                            std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
-// Adds samples [firstSample, firstSample + count) of the listed pixels (all
-// if `pixels` is empty) to result.film, for every channel of the settings.
-// Sample s of pixel p is the same path whichever call renders it, so a
-// render in rounds gives the bits of a render in one go.
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);
 
+// The pixels a call renders: all (an empty list), a list, or across MPI
+// ranks this rank's share (pixelsOfRank, runtime/distributed.h), the other
+// ranks rendering theirs in the same call, in step (light paths are shared
+// round them).
+struct PixelShare {
+    std::vector<uint32_t> pixels;  // empty: all
+    bool acrossRanks = false;
+    // This rank's share with more than one rank; else all pixels.
+    static PixelShare ofThisRank(size_t pixelCount);
+};
+
+// Adds samples [firstSample, firstSample + count) of the share's pixels to
+// result.film, for every channel of the settings. Sample s of pixel p is
+// the same path whichever call (or rank) renders it, so a render in rounds
+// or across ranks gives the bits of a render in one go.
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
-                   const RenderSettings& settings, const std::vector<uint32_t>& pixels, uint32_t firstSample,
-                   uint32_t count, RenderResult& result);
+                   const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
+                   RenderResult& result);
+
+// A share across MPI ranks: rank 0's film receives every rank's pixels
+// (and pools the residuals over them all); the returned statistics are
+// summed over the ranks on rank 0 (this rank's elsewhere). Collective.
+// Otherwise: the result's statistics.
+PathStats gatherShares(RenderResult& result, const PixelShare& share);
 
 }  // namespace pl

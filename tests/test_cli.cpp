@@ -144,30 +144,34 @@ TEST(Cli, RendersStopAtATargetErrorOrATimeAndReproduceWithTheirSpp) {
 
 // Across MPI ranks (when built with MPI and mpirun is there): the pixels
 // are split, rank 0 gathers and writes, and the result has the bits of the
-// one-process render; estimators whose particles serve every pixel are
-// refused for now.
+// one-process render: per pixel (volpath, printpt), with light paths
+// shared round the ranks (lighttrace), and in progressive rounds whose
+// size rank 0 decides (--target-error).
 TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     TestScene s("mpi");
     if (printlight("--version", s.dir).out.find("with MPI") == std::string::npos || std::system("command -v mpirun >/dev/null") != 0)
         GTEST_SKIP() << "built without MPI or no mpirun";
     const std::string mpirun = std::string("mpirun -n 2 --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "") +
                                " " + PRINTLIGHT_EXE + " render " + s.write().string() + " --threads 1 ";
-    for (const char* integrator : {"volpath", "printpt"}) {
-        ASSERT_EQ(s.render(std::string("--spp 4 --integrator ") + integrator).exitCode, 0);
+    auto expectSameBits = [&](const std::string& options) {
+        ASSERT_EQ(s.render(options).exitCode, 0) << options;
         const RadianceImage one = readExr(s.out().string() + ".exr");
         fs::remove_all(s.out().parent_path());
-        const std::string command = mpirun + "--spp 4 --integrator " + integrator + " -o " + s.out().string() + " >" +
-                                    (s.dir / "mpi.log").string() + " 2>&1";
+        const std::string command =
+            mpirun + options + " -o " + s.out().string() + " >" + (s.dir / "mpi.log").string() + " 2>&1";
         ASSERT_EQ(std::system(command.c_str()), 0) << readText(s.dir / "mpi.log");
         EXPECT_NE(readText(s.dir / "mpi.log").find("2 MPI ranks"), std::string::npos) << readText(s.dir / "mpi.log");
         const RadianceImage two = readExr(s.out().string() + ".exr");
         ASSERT_EQ(one.mean.size(), two.mean.size());
         for (size_t i = 0; i < one.mean.size(); ++i) {
-            ASSERT_EQ(one.mean[i], two.mean[i]) << integrator << " " << i;
-            ASSERT_EQ(one.standardError[i], two.standardError[i]) << integrator << " " << i;
+            ASSERT_EQ(one.mean[i], two.mean[i]) << options << " " << i;
+            ASSERT_EQ(one.standardError[i], two.standardError[i]) << options << " " << i;
         }
         fs::remove_all(s.out().parent_path());
-    }
+    };
+    expectSameBits("--spp 4 --integrator volpath");
+    expectSameBits("--spp 4 --integrator printpt");
+    expectSameBits("--target-error 0.3 --integrator volpath");
     // batch: the jobs dealt round the ranks, the same results and one CSV.
     writeText(s.dir / "manifest.json", R"({"renders": [
         {"name": "a", "scene": "scene.json", "spp": 2, "seed": 5, "channel": "rgb"},
@@ -187,15 +191,20 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     EXPECT_LT(csv.find("\na,"), csv.find("\nb,"));
     EXPECT_LT(csv.find("\nb,"), csv.find("\nc,"));
 
-    s.scene["sensor"]["footprint"] = "patch";
-    s.write();
-    const std::string refused = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
+    // A failure on the ranks: one line, from rank 0, and no output.
+    const std::string failing = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
                                 (s.dir / "mpi.log").string() + " 2>&1";
-    EXPECT_NE(std::system(refused.c_str()), 0);
+    EXPECT_NE(std::system(failing.c_str()), 0);
     const std::string log = readText(s.dir / "mpi.log");
-    EXPECT_NE(log.find("does not run across MPI ranks yet"), std::string::npos) << log;
-    EXPECT_EQ(log.find("does not run"), log.rfind("does not run")) << "one error line, from rank 0: " << log;
+    EXPECT_NE(log.find("lighttrace scores into surface-voxel patches"), std::string::npos) << log;
+    EXPECT_EQ(log.find("lighttrace scores"), log.rfind("lighttrace scores")) << "one error line, from rank 0: " << log;
     EXPECT_FALSE(s.anyOutput());
+
+    // The light side on every pixel (a one-resin cube is printpt's otherwise).
+    s.scene["sensor"]["footprint"] = "patch";
+    s.scene["render"]["lighttrace_hybrid"] = false;
+    s.write();
+    expectSameBits("--spp 3 --integrator lighttrace");
 }
 
 TEST(Cli, CtrlCStopsPromptlyWritesNothingAndExits130) {
@@ -420,8 +429,9 @@ TEST(Cli, UsageErrorsAreOneLineAndHelpListsTheOptions) {
         CliRun help = printlight(std::string(command) + " --help", s.dir);
         EXPECT_EQ(help.exitCode, 0) << command << help.err;
         EXPECT_NE(help.out.find(std::string("printlight ") + command), std::string::npos) << help.out;
-        if (std::string(command) != "info")
+        if (std::string(command) != "info") {
             EXPECT_NE(help.out.find("--threads"), std::string::npos) << command << help.out;
+        }
     }
     CliRun renderHelp = printlight("render --help", s.dir);
     EXPECT_NE(renderHelp.out.find("--spp N"), std::string::npos) << renderHelp.out;
