@@ -1,10 +1,13 @@
 #include "api/predictor.h"
 
+#include "runtime/distributed.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
+#include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "scene/registry.h"
 #include "io/input_error.h"
@@ -141,23 +144,45 @@ SurfacePrediction Predictor::predict() {
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Integrator> integrator = makeIntegrator(state_->scene, sensor, rs, controlMeans_);
     r.seconds += secondsSince(t0);
+    // This rank's share (all pixels in one process); across ranks the
+    // film is made whole on every rank after each round (pooled on rank 0).
+    const PixelShare mine = acrossRanks_ ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    PathStats ownStats;
+    auto renderRound = [&](const std::vector<uint32_t>* subset, uint32_t first, uint32_t count) {
+        PixelShare share = mine;
+        if (subset && !mine.acrossRanks) share.pixels = *subset;
+        if (subset && mine.acrossRanks) {
+            share.pixels.clear();
+            for (uint32_t p : *subset)
+                if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
+        }
+        r.stats = ownStats;
+        renderSamples(*integrator, state_->scene, sensor, rs, share, first, count, r);
+        ownStats = r.stats;
+        r.stats = gatherShares(r, share);
+        if (mine.acrossRanks) broadcastFromRankZero(r.film, r.stats);
+    };
     if (!adaptive_.enabled) {
-        renderSamples(*integrator, state_->scene, sensor, rs, {}, 0, rs.spp, r);
+        renderRound(nullptr, 0, rs.spp);
     } else {
         const AdaptiveSampling& a = adaptive_;
         uint32_t done = std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp);
-        renderSamples(*integrator, state_->scene, sensor, rs, {}, 0, done, r);
+        renderRound(nullptr, 0, done);
         // Voxels that stop stay stopped (their film does not change), so all
         // active voxels share one sample count: rounds are deterministic.
-        while (done < a.maxSpp && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds)) {
+        // Across ranks every rank has the whole film: the same decisions,
+        // but rank 0's clock.
+        for (;;) {
+            const bool more = done < a.maxSpp && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds);
+            if (!(mine.acrossRanks ? broadcastFromRankZero(uint32_t(more)) : more)) break;
             std::vector<uint32_t> active;
             for (size_t p = 0; p < sensor.pixelCount(); ++p)
                 if (r.film.samples(p, rs.channels.front()) == done && !converged(r.film, p, rs.channels, a))
                     active.push_back(uint32_t(p));
             if (active.empty()) break;
-            uint32_t more = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
-            renderSamples(*integrator, state_->scene, sensor, rs, PixelShare{active}, done, more, r);
-            done += more;
+            const uint32_t count = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
+            renderRound(&active, done, count);
+            done += count;
         }
     }
     SurfacePrediction p;

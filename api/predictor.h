@@ -56,6 +56,11 @@ public:
     // Renders the current labels. Same labels and seed, same bits.
     SurfacePrediction predict();
 
+    // Across MPI ranks (runtime/distributed.h): each rank renders its share
+    // of every prediction and all receive the whole, with the bits of one
+    // process. Every rank must then make the same calls, in step.
+    void setAcrossRanks(bool on) { acrossRanks_ = on; }
+
     RenderSettings& settings() { return settings_; }
     AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
@@ -76,6 +81,7 @@ private:
     std::unique_ptr<State> state_;
     RenderSettings settings_;
     AdaptiveSampling adaptive_;
+    bool acrossRanks_ = false;
     double pendingUpdateSeconds_ = 0;
     // printpt's Monte Carlo control means, kept across iterations (they
     // depend on the materials and settings, not on the labels).

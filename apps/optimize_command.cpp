@@ -14,6 +14,7 @@
 #include "api/appearance_optimizer.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
+#include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/html_report.h"
@@ -130,22 +131,30 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
     Predictor predictor(desc, desc.render);
+    // Across MPI ranks every rank runs the loop on the same predictions
+    // (each renders its share of them); rank 0 speaks and writes.
+    const bool speaks = Distributed::rank() == 0;
+    predictor.setAcrossRanks(Distributed::ranks() > 1);
     const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
     std::vector<RGB> targets = loadTargets(*target, desc.meshPlacement, desc.meshRepair, predictor, voxels);
-    std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
+    if (speaks)
+        std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header = "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels\n";
-    std::fputs(header, stdout);
+    if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, targets, os, [&](const OptimizeIteration& it) {
         char line[160];
         std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu\n", it.iteration, it.meanDeltaE,
                       it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels);
-        std::fputs(line, stdout);
-        std::fflush(stdout);
+        if (speaks) {
+            std::fputs(line, stdout);
+            std::fflush(stdout);
+        }
         csv << line;
     });
+    if (!speaks) return 0;
     if (os.gamutMap)
         std::printf("targets mapped into the printable range: black shell reflectance %.3f %.3f %.3f, white %.3f %.3f %.3f\n",
                     result.gamutBlack[0], result.gamutBlack[1], result.gamutBlack[2], result.gamutWhite[0],

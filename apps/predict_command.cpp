@@ -10,6 +10,7 @@
 #include "api/predictor.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
+#include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "core/rng.h"
 #include "scene/scene_io.h"
@@ -30,7 +31,11 @@ int predictCommand(const std::vector<std::string>& argv) {
     SceneDescription desc = parseScene(args.positional()[0]);
     applyRenderOptions(args, desc.render);
     auto predictor = std::make_unique<Predictor>(desc, desc.render);
-    std::printf("predict: loaded in %.2f s: %zu surface voxels, %s, %u spp\n", secondsSince(t0),
+    // Across MPI ranks every rank makes the same changes and renders its
+    // share of each prediction; rank 0 speaks.
+    predictor->setAcrossRanks(Distributed::ranks() > 1);
+    const bool speaks = Distributed::rank() == 0;
+    if (speaks) std::printf("predict: loaded in %.2f s: %zu surface voxels, %s, %u spp\n", secondsSince(t0),
                 predictor->surfaceVoxelCount(), predictor->settings().integrator.c_str(), predictor->settings().spp);
 
     // The labels the relabelling draws from: those already on the surface.
@@ -42,7 +47,7 @@ int predictCommand(const std::vector<std::string>& argv) {
     }
     Rng rng = Rng::forPath(predictor->settings().seed, 0, 0, 99);
     double update = 0, renderTime = 0;
-    std::printf("iteration,update_s,render_s,update_share\n");
+    if (speaks) std::printf("iteration,update_s,render_s,update_share\n");
     for (int it = 0; it < iterations; ++it) {
         std::vector<LabelGrid::Change> changes;
         for (int k = 0; k < changesPerIteration; ++k) {
@@ -53,11 +58,12 @@ int predictCommand(const std::vector<std::string>& argv) {
         predictor->changeLabels(changes);
         p = predictor->predict();
         double total = p.updateSeconds + p.renderSeconds;
-        std::printf("%d,%.4f,%.4f,%.4f\n", it + 1, p.updateSeconds, p.renderSeconds, p.updateSeconds / total);
+        if (speaks) std::printf("%d,%.4f,%.4f,%.4f\n", it + 1, p.updateSeconds, p.renderSeconds, p.updateSeconds / total);
         update += p.updateSeconds;
         renderTime += p.renderSeconds;
     }
-    std::printf("predict: %d iterations: update %.3f s, render %.3f s: update is %.2f %% of an iteration\n", iterations,
+    if (speaks)
+        std::printf("predict: %d iterations: update %.3f s, render %.3f s: update is %.2f %% of an iteration\n", iterations,
                 update, renderTime, 100.0 * update / (update + renderTime));
     return 0;
 }

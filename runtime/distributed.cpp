@@ -120,6 +120,20 @@ uint32_t broadcastFromRankZero(uint32_t value) {
     return value;
 }
 
+void broadcastFromRankZero(Film& film, PathStats& stats) {
+    if (!active || Distributed::ranks() == 1) return;
+    std::vector<uint32_t> all(film.pixelCount());
+    for (size_t p = 0; p < all.size(); ++p) all[p] = uint32_t(p);
+    std::vector<char> bytes = Distributed::rank() == 0 ? film.packPixels(all)
+                                                       : std::vector<char>(all.size() * Film::packedBytesPerPixel());
+    // In pieces: MPI counts are ints.
+    constexpr size_t kPiece = size_t(1) << 30;
+    for (size_t offset = 0; offset < bytes.size(); offset += kPiece)
+        MPI_Bcast(bytes.data() + offset, int(std::min(kPiece, bytes.size() - offset)), MPI_BYTE, 0, MPI_COMM_WORLD);
+    if (Distributed::rank() != 0) film.unpackPixels(all, bytes.data());
+    MPI_Bcast(&stats, int(sizeof stats), MPI_BYTE, 0, MPI_COMM_WORLD);
+}
+
 bool anyRankFailed(bool failed) {
     if (!active) return failed;
     int mine = failed ? 1 : 0, any = 0;
@@ -138,6 +152,7 @@ void gatherOnRankZero(Film&, PathStats&) {}
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t, int) { return {std::move(mine)}; }
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) { return {mine}; }
 uint32_t broadcastFromRankZero(uint32_t value) { return value; }
+void broadcastFromRankZero(Film&, PathStats&) {}
 bool anyRankFailed(bool failed) { return failed; }
 
 #endif
@@ -148,6 +163,12 @@ std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks) {
         for (size_t p = chunk * kChunkPixels; p < std::min(pixelCount, (chunk + 1) * kChunkPixels); ++p)
             pixels.push_back(uint32_t(p));
     return pixels;
+}
+
+int rankOfPixel(uint32_t pixel, int ranks) { return int(size_t(pixel) / kChunkPixels % size_t(ranks)); }
+
+size_t positionInShare(uint32_t pixel, int ranks) {
+    return (size_t(pixel) / kChunkPixels / size_t(ranks)) * kChunkPixels + size_t(pixel) % kChunkPixels;
 }
 
 }  // namespace pl

@@ -31,6 +31,9 @@ public:
 // The pixels rank r renders: chunks of 64 pixels dealt round the ranks (the
 // costs of neighbouring pixels are alike; dealt chunks spread them).
 std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
+// The rank whose share holds pixel p, and where p stands in its list.
+int rankOfPixel(uint32_t pixel, int ranks);
+size_t positionInShare(uint32_t pixel, int ranks);
 
 // Gathers every rank's pixels of `film` and sums `stats` on rank 0 (the
 // other ranks' are left as they were). Collective: every rank calls it.
@@ -49,6 +52,9 @@ std::vector<std::string> gatherTextOnRankZero(const std::string& mine);
 
 // Rank 0's value, on every rank. Collective.
 uint32_t broadcastFromRankZero(uint32_t value);
+// Rank 0's film (every pixel's accumulators) and statistics, on every
+// rank. Collective.
+void broadcastFromRankZero(Film& film, PathStats& stats);
 
 // A failure on any rank fails them all: every rank calls it with whether it
 // failed; true if any did. Collective.

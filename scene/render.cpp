@@ -31,8 +31,7 @@ std::vector<int> passesOf(const RenderSettings& settings) {
 void renderWithLightPaths(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                           const RenderSettings& settings, const PixelShare& share, uint32_t firstSample,
                           uint32_t count, int channel, ProgressBar& progress, RenderResult& result) {
-    const std::vector<uint32_t>& pixels = share.pixels;
-    const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
+    const size_t n = share.size(sensor.pixelCount());
     const int ranks = share.acrossRanks ? Distributed::ranks() : 1, rank = share.acrossRanks ? Distributed::rank() : 0;
     std::mutex statsMutex;
     for (uint32_t wave = firstSample; wave < firstSample + count; wave += uint32_t(ranks)) {
@@ -42,8 +41,8 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
             mine.assign(sensor.pixelCount(), 0.0);
             integrator.scoreLightBlock(channel, wave + uint32_t(rank), mine, result.stats);
         }
-        // Across ranks: indexed like `pixels` (this rank's share); in one
-        // process: by pixel.
+        // Across ranks: by position in this rank's share; in one process:
+        // by pixel.
         const std::vector<std::vector<double>> light =
             share.acrossRanks ? shareBlocksByPixel(std::move(mine), sensor.pixelCount(), blocks)
                               : std::vector<std::vector<double>>{std::move(mine)};
@@ -54,12 +53,12 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
                 PathStats stats;
                 for (size_t i = begin; i < end; ++i) {
                     if (interruptRequested()) return;
-                    const size_t p = pixels.empty() ? i : pixels[i];
+                    const size_t p = share.pixel(i);
                     Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     ChannelSample sample =
                         integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
-                    sample.value += float(light[size_t(k)][share.acrossRanks ? i : p]);
+                    sample.value += float(light[size_t(k)][share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p]);
                     result.film.add(p, channel, sample);
                 }
                 progress.advance(end - begin);
@@ -88,8 +87,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
                    RenderResult& result) {
     auto start = std::chrono::steady_clock::now();
-    const std::vector<uint32_t>& pixels = share.pixels;
-    const size_t n = pixels.empty() ? sensor.pixelCount() : pixels.size();
+    const size_t n = share.size(sensor.pixelCount());
     const std::vector<int> passes = passesOf(settings);
     ProgressBar progress(uint64_t(n) * passes.size() * count, "rendering", settings.showProgress);
     std::mutex statsMutex;
@@ -102,7 +100,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
             LabelMedium::Sampler medium(*scene.medium, settings.majorants);
             PathStats stats;
             for (size_t i = begin; i < end; ++i) {
-                size_t p = pixels.empty() ? i : pixels[i];
+                const size_t p = share.pixel(i);
                 // Hero channels go round the samples from a random start per
                 // pixel (independent of the paths): each sample's hero is
                 // uniform, and every three samples of a pixel have all three.

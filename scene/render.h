@@ -62,15 +62,17 @@ std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sen
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);
 
-// The pixels a call renders: all (an empty list), a list, or across MPI
-// ranks this rank's share (pixelsOfRank, runtime/distributed.h), the other
-// ranks rendering theirs in the same call, in step (light paths are shared
-// round them).
+// The pixels a call renders: all, a list, or across MPI ranks part of
+// this rank's share (pixelsOfRank, runtime/distributed.h), the other ranks
+// rendering part of theirs in the same call, in step (light paths are
+// shared round them).
 struct PixelShare {
-    std::vector<uint32_t> pixels;  // empty: all
+    std::vector<uint32_t> pixels;  // empty: all in one process, none across ranks
     bool acrossRanks = false;
     // This rank's share with more than one rank; else all pixels.
     static PixelShare ofThisRank(size_t pixelCount);
+    size_t size(size_t pixelCount) const { return pixels.empty() && !acrossRanks ? pixelCount : pixels.size(); }
+    size_t pixel(size_t i) const { return pixels.empty() ? i : pixels[i]; }
 };
 
 // Adds samples [firstSample, firstSample + count) of the share's pixels to

@@ -142,6 +142,30 @@ TEST(Cli, RendersStopAtATargetErrorOrATimeAndReproduceWithTheirSpp) {
     EXPECT_EQ(s.render("--time -1").exitCode, 2);
 }
 
+// A CSV file's rows after its header, as cells, or as numbers where every cell is one.
+std::vector<std::vector<std::string>> readCsvCells(const fs::path& file) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(test::readText(file));
+    std::string line;
+    std::getline(in, line);  // header
+    while (std::getline(in, line)) {
+        std::vector<std::string> row;
+        std::istringstream cells(line);
+        for (std::string cell; std::getline(cells, cell, ',');) row.push_back(cell);
+        rows.push_back(row);
+    }
+    return rows;
+}
+std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
+    std::vector<std::vector<double>> rows;
+    for (const auto& cells : readCsvCells(file)) {
+        std::vector<double> row;
+        for (const std::string& cell : cells) row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
 // Across MPI ranks (when built with MPI and mpirun is there): the pixels
 // are split, rank 0 gathers and writes, and the result has the bits of the
 // one-process render: per pixel (volpath, printpt), with light paths
@@ -190,6 +214,24 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     const std::string csv = readText(s.dir / "two" / "batch.csv");
     EXPECT_LT(csv.find("\na,"), csv.find("\nb,"));
     EXPECT_LT(csv.find("\nb,"), csv.find("\nc,"));
+
+    // optimize: every rank runs the loop on the same predictions, each
+    // rendering its share of them (adaptive rounds too).
+    const std::string launcher = std::string("mpirun -n 2 --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "");
+    const std::string optimize = std::string(" optimize ") + s.write().string() +
+                                 " --target 0.2,0.45,0.8 --iterations 2 --spp 2 --threads 1 -o ";
+    ASSERT_EQ(printlight(optimize + (s.dir / "one" / "opt").string(), s.dir).exitCode, 0);
+    const std::string optimizeOnRanks = launcher + " " + PRINTLIGHT_EXE + optimize + (s.dir / "two" / "opt").string() +
+                                        " >" + (s.dir / "opt.log").string() + " 2>&1";
+    ASSERT_EQ(std::system(optimizeOnRanks.c_str()), 0) << readText(s.dir / "opt.log");
+    const auto oneRows = readCsvNumbers((s.dir / "one" / "opt.csv").string());
+    const auto twoRows = readCsvNumbers((s.dir / "two" / "opt.csv").string());
+    ASSERT_EQ(oneRows.size(), twoRows.size());
+    for (size_t i = 0; i < oneRows.size(); ++i)
+        for (size_t column : {1, 2, 3, 4, 6}) EXPECT_EQ(oneRows[i][column], twoRows[i][column]) << i << " " << column;
+    EXPECT_EQ(loadLabelGrid(s.dir / "one" / "opt_labels.vdb", std::nullopt).histogram(),
+              loadLabelGrid(s.dir / "two" / "opt_labels.vdb", std::nullopt).histogram());
+    EXPECT_EQ(test::countOf(readText(s.dir / "opt.log"), "iteration,"), 1) << "rank 0 speaks";
 
     // A failure on the ranks: one line, from rank 0, and no output.
     const std::string failing = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
@@ -671,30 +713,6 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     EXPECT_NE(r.err.find("branches must be a whole number"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --reference x.exr", s.dir);
     EXPECT_EQ(r.exitCode, 2);
-}
-
-// A CSV file's rows after its header, as cells, or as numbers where every cell is one.
-std::vector<std::vector<std::string>> readCsvCells(const fs::path& file) {
-    std::vector<std::vector<std::string>> rows;
-    std::istringstream in(test::readText(file));
-    std::string line;
-    std::getline(in, line);  // header
-    while (std::getline(in, line)) {
-        std::vector<std::string> row;
-        std::istringstream cells(line);
-        for (std::string cell; std::getline(cells, cell, ',');) row.push_back(cell);
-        rows.push_back(row);
-    }
-    return rows;
-}
-std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
-    std::vector<std::vector<double>> rows;
-    for (const auto& cells : readCsvCells(file)) {
-        std::vector<double> row;
-        for (const std::string& cell : cells) row.push_back(std::stod(cell));
-        rows.push_back(row);
-    }
-    return rows;
 }
 
 // Self-variance relative MSE: printpt's k = 4 walks from a surface voxel's
