@@ -31,6 +31,7 @@
 
 #include "apps/arguments.h"
 #include "apps/command_options.h"
+#include "runtime/distributed.h"
 #include "apps/limit_walk.h"
 #include "apps/number_text.h"
 #include "runtime/progress.h"
@@ -340,14 +341,20 @@ int benchCommand(const std::vector<std::string>& argv) {
     if (makeRefPath) needs |= sceneNeedsOf(reference);
     Scene scene = loadScene(desc, needs);
     std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+    // Across MPI ranks every render is split over them (each renders its
+    // share of the pixels); rank 0 measures, prints and writes. Times are
+    // rank 0's wall times; events/s/core count every rank's threads.
+    const bool acrossRanks = Distributed::ranks() > 1, speaks = Distributed::rank() == 0;
+    const int cores = threads.count * Distributed::ranks();
 
     if (makeRefPath) {
         RenderSettings s = reference;
         s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
         s.seed = 0x5eed;
-        s.showProgress = ProgressBar::stderrIsTerminal();
+        s.showProgress = speaks && ProgressBar::stderrIsTerminal();
         refuseToOverwriteInputs(*makeRefPath, desc.inputFiles());
-        RenderResult r = render(scene, *sensor, s);
+        RenderResult r = render(scene, *sensor, s, acrossRanks);
+        if (!speaks) return 0;
         RadianceImage im = filmToImage(r.film, *sensor);
         im.metadata = {{"reference_spp", std::to_string(s.spp)}, {"integrator", s.integrator}};
         writeExr(im, *makeRefPath);
@@ -405,7 +412,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     // The floor every configuration's event rate is read against, in this
     // process and run.
     const LimitWalkRate limit = measureLimitWalk(threads.count);
-    std::fprintf(stderr, "bench: limit walk %s events/s/core\n", siRate(limit.eventsPerSecondPerCore).c_str());
+    if (speaks) std::fprintf(stderr, "bench: limit walk %s events/s/core\n", siRate(limit.eventsPerSecondPerCore).c_str());
     std::vector<Row> rows;
     // Self-variance: each render's film, kept until all are done for the
     // relative MSE (one denominator for all renders).
@@ -415,10 +422,11 @@ int benchCommand(const std::vector<std::string>& argv) {
         s.spp = 1;
         s.seed = 1;
         const bool fixedSpp = self && args.has("--spp");
-        double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s).seconds;  // calibration
+        double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s, acrossRanks).seconds;  // calibration
         for (double budget : budgets) {
             if (fixedSpp && budget != budgets.front()) break;  // one render: the spp is fixed
             s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
+            if (acrossRanks) s.spp = broadcastFromRankZero(s.spp);  // rank 0's clock decides
             if (fixedSpp) s.spp = selfSpp;
             if (self) s.spp = std::max(s.spp, selfSpp);
             // Hero channels go round groups of three samples, whose means are
@@ -426,7 +434,8 @@ int benchCommand(const std::vector<std::string>& argv) {
             if (self && rendersChannelsInOnePass(s) && s.channelSampling == ChannelSampling::Hero)
                 s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
             s.seed += 1;
-            RenderResult r = render(scene, *sensor, s);
+            RenderResult r = render(scene, *sensor, s, acrossRanks);
+            if (!speaks) continue;
             // (With several renders the relative MSE is redone below, over one denominator.)
             auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
             Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, *sensor, ref);
@@ -435,12 +444,13 @@ int benchCommand(const std::vector<std::string>& argv) {
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
                             timeToTarget(r.seconds, medianRel, target),
-                            double(r.stats.scatterEvents) / (r.seconds * threads.count)});
+                            double(r.stats.scatterEvents) / (r.seconds * cores)});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
     }
 
+    if (!speaks) return 0;
     if (selfFilms.size() >= 2) {
         // One denominator for every render: the renders' means pooled with
         // weights 1 / (render's MSE), so the comparison between
@@ -479,7 +489,9 @@ int benchCommand(const std::vector<std::string>& argv) {
            << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
     md << "Limit walk, same run: " << siRate(limit.eventsPerSecondPerCore) << " scattering events/s/core on "
        << limit.threads << " thread(s) (no lookups: exponential flights and HG sampling in an infinite medium). "
-       << "events/s/core: each render's scattering events over its wall time and threads.\n\n";
+       << "events/s/core: each render's scattering events over its wall time and threads";
+    if (acrossRanks) md << " (" << Distributed::ranks() << " MPI ranks of " << threads.count << " thread(s))";
+    md << ".\n\n";
     char targetText[32];
     std::snprintf(targetText, sizeof targetText, "%g %%", 100.0 * target);
     md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
