@@ -139,7 +139,7 @@ SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
     const Sensor& sensor = *state_->sensor;
-    RenderResult r{Film(sensor.pixelCount()), {}, 0};
+    RenderResult r{Film(sensor.pixelCount())};
     // One integrator for all rounds: its census and means are made once.
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Integrator> integrator = makeIntegrator(state_->scene, sensor, rs, controlMeans_);

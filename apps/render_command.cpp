@@ -1,5 +1,6 @@
 // printlight render: scene file -> surface-radiance prediction or preview.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -148,7 +149,16 @@ int renderCommand(const std::vector<std::string>& argv) {
         if (rank != 0) return 0;
         writeImages(result, sppDone);
     }
-    if (acrossRanks) stopped += ", " + std::to_string(ranks) + " MPI ranks";
+    if (acrossRanks) {
+        stopped += ", " + std::to_string(ranks) + " MPI ranks";
+        if (!result.communicationShare.empty()) {
+            const auto [least, most] =
+                std::minmax_element(result.communicationShare.begin(), result.communicationShare.end());
+            char line[96];
+            std::snprintf(line, sizeof line, " (communicating %.0f-%.0f %% of the time)", 100 * *least, 100 * *most);
+            stopped += line;
+        }
+    }
     if (surface) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())

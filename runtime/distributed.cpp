@@ -1,6 +1,7 @@
 #include "runtime/distributed.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <type_traits>
 
@@ -25,6 +26,44 @@ bool launchedByMpi() {
         if (std::getenv(name)) return true;
     return false;
 }
+
+// This rank's time in communication (waiting for the others included).
+double secondsCommunicating = 0;
+class CommunicationTimer {
+public:
+    CommunicationTimer() : start_(std::chrono::steady_clock::now()) {}
+    ~CommunicationTimer() {
+        secondsCommunicating += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+
+private:
+    std::chrono::steady_clock::time_point start_;
+};
+
+// Messages of any size (MPI counts are ints): pieces of at most 1 GiB, at
+// least one.
+constexpr size_t kPieceBytes = size_t(1) << 30;
+void sendBytes(const void* data, size_t size, int to, int tag) {
+    size_t offset = 0;
+    do {
+        MPI_Send(static_cast<const char*>(data) + offset, int(std::min(kPieceBytes, size - offset)), MPI_BYTE, to, tag,
+                 MPI_COMM_WORLD);
+        offset += kPieceBytes;
+    } while (offset < size);
+}
+void receiveBytes(void* data, size_t size, int from, int tag) {
+    size_t offset = 0;
+    do {
+        MPI_Recv(static_cast<char*>(data) + offset, int(std::min(kPieceBytes, size - offset)), MPI_BYTE, from, tag,
+                 MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        offset += kPieceBytes;
+    } while (offset < size);
+}
+void broadcastBytes(void* data, size_t size) {
+    for (size_t offset = 0; offset < size; offset += kPieceBytes)
+        MPI_Bcast(static_cast<char*>(data) + offset, int(std::min(kPieceBytes, size - offset)), MPI_BYTE, 0,
+                  MPI_COMM_WORLD);
+}
 }  // namespace
 
 Distributed::Distributed(int* argc, char*** argv) {
@@ -45,25 +84,27 @@ int Distributed::ranks() {
     return n;
 }
 bool Distributed::enabled() { return true; }
+double Distributed::secondsCommunicating() { return pl::secondsCommunicating; }
 
 void gatherOnRankZero(Film& film, PathStats& stats) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return;
     static_assert(std::is_trivially_copyable_v<PathStats>);
+    CommunicationTimer timer;
     if (me != 0) {
         const std::vector<char> bytes = film.packPixels(pixelsOfRank(film.pixelCount(), me, n));
-        MPI_Send(bytes.data(), int(bytes.size()), MPI_BYTE, 0, 1, MPI_COMM_WORLD);
-        MPI_Send(&stats, int(sizeof stats), MPI_BYTE, 0, 2, MPI_COMM_WORLD);
+        sendBytes(bytes.data(), bytes.size(), 0, 1);
+        sendBytes(&stats, sizeof stats, 0, 2);
         return;
     }
     // In rank order: the same sums of the statistics every time.
     for (int r = 1; r < n; ++r) {
         const std::vector<uint32_t> pixels = pixelsOfRank(film.pixelCount(), r, n);
         std::vector<char> bytes(pixels.size() * Film::packedBytesPerPixel());
-        MPI_Recv(bytes.data(), int(bytes.size()), MPI_BYTE, r, 1, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        receiveBytes(bytes.data(), bytes.size(), r, 1);
         film.unpackPixels(pixels, bytes.data());
         PathStats theirs;
-        MPI_Recv(&theirs, int(sizeof theirs), MPI_BYTE, r, 2, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        receiveBytes(&theirs, sizeof theirs, r, 2);
         stats += theirs;
     }
 }
@@ -71,6 +112,7 @@ void gatherOnRankZero(Film& film, PathStats& stats) {
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t pixelCount, int blocks) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return {std::move(mine)};
+    CommunicationTimer timer;
     std::vector<double> send;
     std::vector<int> sendCounts(size_t(n), 0), sendOffsets(size_t(n), 0);
     for (int q = 0; q < n; ++q) {
@@ -95,47 +137,54 @@ std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, si
     return out;
 }
 
+std::vector<double> gatherOnRankZero(double mine) {
+    if (!active) return {mine};
+    std::vector<double> all(Distributed::rank() == 0 ? size_t(Distributed::ranks()) : 0);
+    MPI_Gather(&mine, 1, MPI_DOUBLE, all.data(), 1, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    return all;
+}
+
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return {mine};
     if (me != 0) {
         const uint64_t size = mine.size();
-        MPI_Send(&size, 1, MPI_UINT64_T, 0, 3, MPI_COMM_WORLD);
-        MPI_Send(mine.data(), int(size), MPI_CHAR, 0, 4, MPI_COMM_WORLD);
+        sendBytes(&size, sizeof size, 0, 3);
+        sendBytes(mine.data(), size, 0, 4);
         return {};
     }
     std::vector<std::string> all{mine};
     for (int r = 1; r < n; ++r) {
         uint64_t size = 0;
-        MPI_Recv(&size, 1, MPI_UINT64_T, r, 3, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        receiveBytes(&size, sizeof size, r, 3);
         std::string text(size, '\0');
-        MPI_Recv(text.data(), int(size), MPI_CHAR, r, 4, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        receiveBytes(text.data(), size, r, 4);
         all.push_back(std::move(text));
     }
     return all;
 }
 
 uint32_t broadcastFromRankZero(uint32_t value) {
+    CommunicationTimer timer;
     if (active) MPI_Bcast(&value, 1, MPI_UINT32_T, 0, MPI_COMM_WORLD);
     return value;
 }
 
 void broadcastFromRankZero(Film& film, PathStats& stats) {
     if (!active || Distributed::ranks() == 1) return;
+    CommunicationTimer timer;
     std::vector<uint32_t> all(film.pixelCount());
     for (size_t p = 0; p < all.size(); ++p) all[p] = uint32_t(p);
     std::vector<char> bytes = Distributed::rank() == 0 ? film.packPixels(all)
                                                        : std::vector<char>(all.size() * Film::packedBytesPerPixel());
-    // In pieces: MPI counts are ints.
-    constexpr size_t kPiece = size_t(1) << 30;
-    for (size_t offset = 0; offset < bytes.size(); offset += kPiece)
-        MPI_Bcast(bytes.data() + offset, int(std::min(kPiece, bytes.size() - offset)), MPI_BYTE, 0, MPI_COMM_WORLD);
+    broadcastBytes(bytes.data(), bytes.size());
     if (Distributed::rank() != 0) film.unpackPixels(all, bytes.data());
-    MPI_Bcast(&stats, int(sizeof stats), MPI_BYTE, 0, MPI_COMM_WORLD);
+    broadcastBytes(&stats, sizeof stats);
 }
 
 bool anyRankFailed(bool failed) {
     if (!active) return failed;
+    CommunicationTimer timer;
     int mine = failed ? 1 : 0, any = 0;
     MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
     return any != 0;
@@ -148,8 +197,10 @@ Distributed::~Distributed() = default;
 int Distributed::rank() { return 0; }
 int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
+double Distributed::secondsCommunicating() { return 0; }
 void gatherOnRankZero(Film&, PathStats&) {}
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t, int) { return {std::move(mine)}; }
+std::vector<double> gatherOnRankZero(double mine) { return {mine}; }
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) { return {mine}; }
 uint32_t broadcastFromRankZero(uint32_t value) { return value; }
 void broadcastFromRankZero(Film&, PathStats&) {}

@@ -26,6 +26,9 @@ public:
     static int rank();   // 0 without MPI
     static int ranks();  // 1 without MPI
     static bool enabled();  // built with MPI
+    // This rank's time so far in communication, waiting for the other
+    // ranks included (the load imbalance shows there).
+    static double secondsCommunicating();
 };
 
 // The pixels rank r renders: chunks of 64 pixels dealt round the ranks (the
@@ -45,6 +48,10 @@ void gatherOnRankZero(Film& film, PathStats& stats);
 // block's values at its own pixels (in pixelsOfRank's order), in block
 // order. Collective. One process: {mine}.
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t pixelCount, int blocks);
+
+// Every rank's value, in rank order, on rank 0 (empty elsewhere).
+// Collective.
+std::vector<double> gatherOnRankZero(double mine);
 
 // Every rank's text, in rank order, on rank 0 (empty elsewhere).
 // Collective.

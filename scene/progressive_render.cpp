@@ -40,7 +40,7 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    ProgressiveRender out{RenderResult{Film(sensor.pixelCount()), {}, 0}, 0, 0, "spp"};
+    ProgressiveRender out{RenderResult{Film(sensor.pixelCount())}, 0, 0, "spp"};
     const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
     const bool decides = !share.acrossRanks || Distributed::rank() == 0;
     std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);

@@ -161,9 +161,10 @@ PathStats gatherShares(RenderResult& result, const PixelShare& share) {
 }
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
-    RenderResult result{Film(sensor.pixelCount()), {}, 0};
+    RenderResult result{Film(sensor.pixelCount())};
     const auto start = std::chrono::steady_clock::now();
     const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    const double communicatedBefore = Distributed::secondsCommunicating();
     std::string failure;
     try {
         std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
@@ -176,6 +177,9 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
         throw std::runtime_error(failure.empty() ? "another MPI rank failed" : failure);
     result.stats = gatherShares(result, share);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (share.acrossRanks)
+        result.communicationShare =
+            gatherOnRankZero((Distributed::secondsCommunicating() - communicatedBefore) / result.seconds);
     return result;
 }
 

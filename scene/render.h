@@ -39,11 +39,15 @@ struct RenderSettings {
 
 struct RenderResult {
     Film film;
-    PathStats stats;
+    PathStats stats{};
     double seconds = 0;
     // Per channel, the time of its own pass (separate passes only; zero
     // for three channels from one path).
     RGB passSeconds{0, 0, 0};
+    // Across MPI ranks, on rank 0: each rank's share of the render's time
+    // spent communicating, waiting for the others included (the load
+    // imbalance and the cost of the exchange).
+    std::vector<double> communicationShare{};
 };
 
 // acrossRanks: every MPI rank renders its share of the pixels and rank 0

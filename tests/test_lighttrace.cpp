@@ -76,7 +76,7 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     s.lighttrace.hybrid = hybrid;
     s.lighttrace.scoring = scoring;
     const auto integrator = makeIntegrator(scene, sensor, s);
-    BlockwiseRender b{RenderResult{Film(sensor.pixelCount()), {}, 0}, {}};
+    BlockwiseRender b{RenderResult{Film(sensor.pixelCount())}, {}};
     const double n = double(sensor.pixelCount());
     double previous[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
     for (uint32_t sample = 0; sample < spp; ++sample) {
