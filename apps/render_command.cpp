@@ -175,7 +175,12 @@ int renderCommand(const std::vector<std::string>& argv) {
         }
         std::vector<RGB> colors(voxels.size());
         for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
-        writePredictionGlb(*patches, colors, outputs[3]);
+        try {
+            writePredictionGlb(*patches, colors, outputs[3]);
+        } catch (const GlbTooLarge& e) {
+            std::fprintf(stderr, "printlight: warning: %s\n", e.what());
+            outputs.pop_back();
+        }
     }
     if (result.stats.trapped)
         std::fprintf(stderr, "printlight: warning: %s paths were trapped (over %lld boundary events without scattering)\n",
@@ -200,7 +205,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                 withThousands(sensor->pixelCount()).c_str(), sppDone,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
                 siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(), stopped.c_str(),
-                threads.count, (base.string() + (surface ? ".{exr,png,vdb,glb}" : ".{exr,png}")).c_str());
+                threads.count, (base.string() + (outputs.size() == 4 ? ".{exr,png,vdb,glb}" : surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
     return 0;
 }
 

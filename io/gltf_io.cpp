@@ -304,10 +304,7 @@ struct GltfDocument {
     std::vector<unsigned char> buffer;
 };
 
-enum class ColorEncoding { Float, Unorm16 };
-
-GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& look,
-                          ColorEncoding colors = ColorEncoding::Float) {
+GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& look) {
     using nlohmann::json;
     GltfDocument doc;
     std::vector<unsigned char>& buf = doc.buffer;
@@ -332,17 +329,8 @@ GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& loo
     accessors.back()["min"] = {b.lo.x, b.lo.y, b.lo.z};
     accessors.back()["max"] = {b.hi.x, b.hi.y, b.hi.z};
     if (!look.uvs.empty()) attributes["TEXCOORD_0"] = addView(look.uvs.data(), n * 8, n, 5126, "VEC2", 34962);
-    if (!look.vertexColors.empty() && colors == ColorEncoding::Float)
+    if (!look.vertexColors.empty())
         attributes["COLOR_0"] = addView(look.vertexColors.data(), n * 12, n, 5126, "VEC3", 34962);
-    if (!look.vertexColors.empty() && colors == ColorEncoding::Unorm16) {
-        std::vector<uint16_t> rgba(4 * n, 65535);
-        for (size_t v = 0; v < n; ++v)
-            for (int c = 0; c < 3; ++c)
-                rgba[4 * v + size_t(c)] =
-                    uint16_t(std::lround(65535.0f * std::min(std::max(look.vertexColors[v][c], 0.0f), 1.0f)));
-        attributes["COLOR_0"] = addView(rgba.data(), n * 8, n, 5123, "VEC4", 34962);
-        accessors.back()["normalized"] = true;
-    }
     json primitive = {{"attributes", attributes}, {"mode", 4}};
     if (!mesh.indices.empty())
         primitive["indices"] = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
@@ -382,42 +370,82 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
 void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
                         const std::filesystem::path& file) {
     using nlohmann::json;
-    // Each piece with its own three vertices (no index buffer), coloured by its voxel.
-    TriangleMesh mesh;
-    SurfaceAppearance look;
+    // Each piece with its own three vertices (no index buffer), coloured by
+    // its voxel: positions (metres, float) then colours (unorm16 RGBA).
+    // Streamed to the file from the patches (a tray-sized model has 1e8
+    // pieces): only the bounds are gathered first.
+    size_t pieces = 0;
+    Bounds3f bounds_m;
+    auto metres = [](const Point3f& p) {
+        return Point3f(float(double(p.x) / 1000.0), float(double(p.y) / 1000.0), float(double(p.z) / 1000.0));
+    };
     for (size_t pixel = 0; pixel < linearColor.size(); ++pixel)
-        for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
-            for (const Point3f& v : {p->a, p->b, p->c}) {
-                mesh.positions_mm.push_back(v);
-                look.vertexColors.push_back(linearColor[pixel]);
-            }
-    GltfDocument doc = meshDocument(mesh, look, ColorEncoding::Unorm16);
-    json& gltf = doc.gltf;
-    // Unlit: the colours are the radiance leaving the surface already; a
-    // viewer's own lights must not shade them again.
-    gltf["extensionsUsed"] = {"KHR_materials_unlit"};
-    gltf["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
-                          {"extensions", {{"KHR_materials_unlit", json::object()}}}}};
-    gltf["meshes"][0]["primitives"][0]["material"] = 0;
-    gltf["buffers"] = {{{"byteLength", doc.buffer.size()}}};
+        for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p, ++pieces)
+            for (const Point3f& v : {p->a, p->b, p->c}) bounds_m.expand(metres(v));
+    // A .glb's lengths are 32-bit.
+    const uint64_t vertices = 3 * uint64_t(pieces), positionBytes = vertices * 12, colorBytes = vertices * 8;
+    constexpr uint64_t kMostGlbBytes = 0xFFFFFFFFull - (1u << 20);  // less room for the JSON
+    if (positionBytes + colorBytes > kMostGlbBytes)
+        throw GlbTooLarge("the prediction on the model (" + std::to_string(pieces) + " patch pieces, " +
+                          std::to_string((positionBytes + colorBytes) >> 30) + " GiB) exceeds a .glb's 4 GiB: " +
+                          file.string() + " is not written (the .exr and .vdb hold the prediction)");
+    json gltf = {
+        {"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
+        {"scene", 0},
+        {"scenes", {{{"nodes", {0}}}}},
+        {"nodes", {{{"mesh", 0}}}},
+        {"bufferViews",
+         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positionBytes}, {"target", 34962}},
+          {{"buffer", 0}, {"byteOffset", positionBytes}, {"byteLength", colorBytes}, {"target", 34962}}}},
+        {"accessors",
+         {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
+           {"min", {bounds_m.lo.x, bounds_m.lo.y, bounds_m.lo.z}}, {"max", {bounds_m.hi.x, bounds_m.hi.y, bounds_m.hi.z}}},
+          {{"bufferView", 1}, {"componentType", 5123}, {"count", vertices}, {"type", "VEC4"}, {"normalized", true}}}},
+        // Unlit: the colours are the radiance leaving the surface already; a
+        // viewer's own lights must not shade them again.
+        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}, {"mode", 4}, {"material", 0}}}}}}},
+        {"extensionsUsed", {"KHR_materials_unlit"}},
+        {"materials",
+         {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+           {"extensions", {{"KHR_materials_unlit", json::object()}}}}}},
+        {"buffers", {{{"byteLength", positionBytes + colorBytes}}}}};
     // The binary container: header, JSON chunk (space-padded), BIN chunk.
     std::string text = gltf.dump();
     while (text.size() % 4) text.push_back(' ');
     auto u32 = [](std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
-    std::string glb;
-    u32(glb, 0x46546C67);  // "glTF"
-    u32(glb, 2);
-    u32(glb, uint32_t(12 + 8 + text.size() + 8 + doc.buffer.size()));
-    u32(glb, uint32_t(text.size()));
-    u32(glb, 0x4E4F534A);  // "JSON"
-    glb += text;
-    u32(glb, uint32_t(doc.buffer.size()));
-    u32(glb, 0x004E4942);  // "BIN"
-    glb.append(reinterpret_cast<const char*>(doc.buffer.data()), doc.buffer.size());
+    std::string bytes;
+    u32(bytes, 0x46546C67);  // "glTF"
+    u32(bytes, 2);
+    u32(bytes, uint32_t(12 + 8 + text.size() + 8 + positionBytes + colorBytes));
+    u32(bytes, uint32_t(text.size()));
+    u32(bytes, 0x4E4F534A);  // "JSON"
+    bytes += text;
+    u32(bytes, uint32_t(positionBytes + colorBytes));
+    u32(bytes, 0x004E4942);  // "BIN"
     OutputFile out(file);
     {
         std::ofstream f(out.tempPath(), std::ios::binary);
-        f.write(glb.data(), std::streamsize(glb.size()));
+        auto flushIfFull = [&](size_t atLeast) {
+            if (bytes.size() < atLeast) return;
+            f.write(bytes.data(), std::streamsize(bytes.size()));
+            bytes.clear();
+        };
+        for (size_t pixel = 0; pixel < linearColor.size(); ++pixel, flushIfFull(1 << 20))
+            for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
+                for (const Point3f& v : {p->a, p->b, p->c}) {
+                    const Point3f m = metres(v);
+                    bytes.append(reinterpret_cast<const char*>(&m.x), 4);
+                    bytes.append(reinterpret_cast<const char*>(&m.y), 4);
+                    bytes.append(reinterpret_cast<const char*>(&m.z), 4);
+                }
+        for (size_t pixel = 0; pixel < linearColor.size(); ++pixel, flushIfFull(1 << 20)) {
+            uint16_t rgba[4] = {0, 0, 0, 65535};
+            for (int c = 0; c < 3; ++c)
+                rgba[c] = uint16_t(std::lround(65535.0f * std::min(std::max(linearColor[pixel][c], 0.0f), 1.0f)));
+            for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
+                for (int k = 0; k < 3; ++k) bytes.append(reinterpret_cast<const char*>(rgba), 8);
+        }
+        flushIfFull(0);
         if (!f) throw std::runtime_error("cannot write " + file.string());
     }
     out.commit();

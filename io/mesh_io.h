@@ -6,6 +6,7 @@
 #pragma once
 
 #include <filesystem>
+#include <stdexcept>
 
 #include "core/geometry.h"
 #include "core/surface_patches.h"
@@ -50,6 +51,11 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& appearance,
 // surface-voxel sensor's patches, each piece coloured with its voxel's
 // predicted radiance (linear RGB, clamped to [0, 1], as vertex colours)
 // under an unlit material.
+// GlbTooLarge (before anything is built or written) if the model would
+// exceed the format's 4 GiB.
+struct GlbTooLarge : std::length_error {
+    using std::length_error::length_error;
+};
 void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
                         const std::filesystem::path& file);
 

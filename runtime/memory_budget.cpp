@@ -32,11 +32,22 @@ uint64_t memoryBudgetBytes() {
     return physical;
 }
 
-std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what) {
+uint64_t memoryInUseBytes() {
+    std::ifstream statm("/proc/self/statm");
+    unsigned long long pages = 0, resident = 0;
+    if (!(statm >> pages >> resident)) return 0;
+    return uint64_t(resident) * uint64_t(sysconf(_SC_PAGE_SIZE));
+}
+
+std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what, uint64_t inUse,
+                                           const std::string& remedy) {
     uint64_t budget = memoryBudgetBytes();
-    if (bytes <= budget) return std::nullopt;
-    return what + " needs about " + gib(bytes) + " of memory; this machine has " + gib(budget) +
-           " (refused before allocating)";
+    if (bytes + inUse <= budget) return std::nullopt;
+    std::string line = what + " needs about " + gib(bytes) + " of memory";
+    if (inUse) line += " besides the " + gib(inUse) + " in use";
+    line += "; this machine has " + gib(budget) + " (refused before allocating)";
+    if (!remedy.empty()) line += ": " + remedy;
+    return line;
 }
 
 }  // namespace pl

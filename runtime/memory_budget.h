@@ -13,7 +13,12 @@ namespace pl {
 // shared machines).
 uint64_t memoryBudgetBytes();
 
-// A one-line explanation if `bytes` (needed for `what`) exceeds the budget.
-std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what);
+// The process's resident memory now (0 where /proc is not there).
+uint64_t memoryInUseBytes();
+
+// A one-line explanation if `bytes` (needed for `what`, on top of
+// `inUse`) exceeds the budget; `remedy` (if any) says what would fit.
+std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what, uint64_t inUse = 0,
+                                           const std::string& remedy = "");
 
 }  // namespace pl

@@ -235,13 +235,32 @@ namespace {
 // and the output images. Throws if that does not fit.
 void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
     uint64_t pixelBytes = uint64_t(sensor.pixelCount()) * 200 + uint64_t(sensor.imageWidth()) * sensor.imageHeight() * 40;
-    if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor.pixelCount()) + " sensor pixels"))
+    if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor.pixelCount()) + " sensor pixels", memoryInUseBytes()))
+        throw InputError(desc.sceneFile.string(), *why);
+}
+
+// The surface-voxel sensor's memory, checked before it is made (measured
+// on the 10 mm greek cube, docs/performance.md "Tray-sized models"): per
+// surface voxel the sensor and its patches (~340 bytes; the ray footprint
+// makes them for the .glb after the render), the film (192), the result
+// grid and images (~70); lighttrace's light tallies add 136; per atlas
+// pixel the images, 56.
+void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
+    const Vec3i& r = frame.resolution;
+    const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
+    const uint64_t lightBytes = desc.render.integrator == "lighttrace" ? 136 * uint64_t(surfaceVoxels) : 0;
+    const uint64_t bytes = 600 * uint64_t(surfaceVoxels) + lightBytes + 56 * atlasPixels;
+    std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks do not help (each "
+                         "holds the whole sensor)";
+    if (lightBytes) remedy = "volpath or printpt need " + std::to_string(lightBytes >> 20) + " MiB less; " + remedy;
+    if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", memoryInUseBytes(), remedy))
         throw InputError(desc.sceneFile.string(), *why);
 }
 }  // namespace
 
 std::unique_ptr<SurfaceVoxelSensor> makeSurfaceVoxelSensor(const SceneDescription& desc, const Scene& scene,
                                                            const std::vector<SurfaceVoxel>& surfaceVoxels) {
+    requireSurfaceSensorMemory(desc, scene.medium->frame(), surfaceVoxels.size());
     std::unique_ptr<SurfaceVoxelSensor> sensor;
     try {
         sensor = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels,
@@ -249,7 +268,6 @@ std::unique_ptr<SurfaceVoxelSensor> makeSurfaceVoxelSensor(const SceneDescriptio
     } catch (const std::runtime_error& e) {  // mesh and grid do not match
         throw InputError(desc.labelsFile.string(), e.what());
     }
-    requireSensorMemory(desc, *sensor);
     return sensor;
 }
 
