@@ -55,6 +55,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
                     {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
                     {"--keep-colors", "", "also write the colour grid the labels were halftoned from"},
+                    {"--band-mm", "D", "half-width of the sdf/normal band (default: the shell depth plus two voxels; "
+                                       "0: none; only printpt's --nee reads it)"},
                     {"--scene-out", "PREFIX", "also write scenes for the result (PREFIX_surface.json, _preview.json)"},
                     kThreadsOption,
                     kQuietOption});
@@ -92,6 +94,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
             if (!(x >= 0 && x <= 1)) throw UsageError("--color components must be in [0, 1] (linear RGB)");
     }
     ps.keepColors = args.has("--keep-colors");
+    if (args.has("--band-mm")) ps.fieldBand_mm = number("--band-mm", 0.0f, 0.0f, 100.0f);
     const bool quiet = args.has("--quiet");
     ps.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     std::optional<std::filesystem::path> sceneOut;

@@ -159,13 +159,18 @@ int renderCommand(const std::vector<std::string>& argv) {
             stopped += line;
         }
     }
+    const std::string controls = controlSummary(result);  // before the film is let go (below)
     if (surface) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
         writeSurfaceResultVdb(scene.worldFrame(), voxels, result.film, outputs[2]);
         // The prediction on the model, over the voxels' patches (made here
-        // for the ray footprint, which renders without them).
+        // for the ray footprint, which renders without them, once the film
+        // is no longer held).
+        std::vector<RGB> colors(voxels.size());
+        for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
+        result.film = Film();
         const auto& surfaceSensor = static_cast<const SurfaceVoxelSensor&>(*sensor);
         std::unique_ptr<SurfacePatches> ownPatches;
         const SurfacePatches* patches = surfaceSensor.patches();
@@ -173,8 +178,6 @@ int renderCommand(const std::vector<std::string>& argv) {
             ownPatches = std::make_unique<SurfacePatches>(scene.geometry->mesh(), scene.worldFrame(), voxels);
             patches = ownPatches.get();
         }
-        std::vector<RGB> colors(voxels.size());
-        for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
         try {
             writePredictionGlb(*patches, colors, outputs[3]);
         } catch (const GlbTooLarge& e) {
@@ -204,7 +207,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                 s, secondsSince(t0), withThousands(samples).c_str(),
                 withThousands(sensor->pixelCount()).c_str(), sppDone,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), balls, controlSummary(result).c_str(), stopped.c_str(),
+                siRate(result.stats.scatterEvents / s).c_str(), balls, controls.c_str(), stopped.c_str(),
                 threads.count, (base.string() + (outputs.size() == 4 ? ".{exr,png,vdb,glb}" : surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());
     return 0;
 }

@@ -19,6 +19,12 @@ struct TriangleMesh {
     std::vector<Vec3f> normals;  // per vertex, optional (empty if absent)
     std::vector<uint32_t> indices;
     size_t triangleCount() const { return indices.size() / 3; }
+    double triangleArea_mm2(size_t t) const {
+        const Point3f& a = positions_mm[indices[3 * t]];
+        const Point3f& b = positions_mm[indices[3 * t + 1]];
+        const Point3f& c = positions_mm[indices[3 * t + 2]];
+        return 0.5 * double(length(cross(b - a, c - a)));
+    }
 };
 
 struct Bounds3f {

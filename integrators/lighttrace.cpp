@@ -95,10 +95,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
     const TriangleMesh& mesh = scene.geometry->mesh();
     areaCdf_mm2_.reserve(mesh.triangleCount());
     for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        const Point3f& a = mesh.positions_mm[mesh.indices[3 * t]];
-        const Point3f& b = mesh.positions_mm[mesh.indices[3 * t + 1]];
-        const Point3f& c = mesh.positions_mm[mesh.indices[3 * t + 2]];
-        meshArea_mm2_ += 0.5 * double(length(cross(b - a, c - a)));
+        meshArea_mm2_ += mesh.triangleArea_mm2(t);
         areaCdf_mm2_.push_back(meshArea_mm2_);
     }
     const Vec3f v = scene.medium->frame().voxelSize_mm;

@@ -361,8 +361,10 @@ void writePreparedVdb(const LabelGrid& grid, const VoxelFields& fields, const st
         field->insertMeta("units", openvdb::StringMetadata(std::string(name) == "sdf" ? "mm" : ""));
         grids.push_back(field);
     };
-    add(g.sdf, "sdf");
-    add(g.normal, "normal");
+    if (g.sdf->activeVoxelCount() > 0) {  // none with prepare --band-mm 0
+        add(g.sdf, "sdf");
+        add(g.normal, "normal");
+    }
     if (g.colors) add(g.colors, "colors");
     writeVdbGrids(grids, file);
 }

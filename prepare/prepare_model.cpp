@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <vector>
 
 #include "runtime/interrupt.h"
@@ -24,6 +25,7 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
     vs.voxel_mm = settings.voxel_mm;
     vs.margin_mm = settings.margin_mm;
     vs.band_mm = settings.extrude_mm + 2.0f * std::max({vs.voxel_mm.x, vs.voxel_mm.y, vs.voxel_mm.z});
+    const float fieldBand_mm = std::min(settings.fieldBand_mm.value_or(vs.band_mm), vs.band_mm);
 
     // Scanlines and near-surface bricks.
     auto t1 = std::chrono::steady_clock::now();
@@ -31,9 +33,25 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
         GridFrame planned = Voxelizer::frameFor(geometry.bounds(), vs);
         if (planned.voxelCount() > kMaxGridVoxels)
             throw PrepareError("voxel grid of " + std::to_string(planned.voxelCount()) + " voxels is too large");
-        // Scanline intervals, the label tree (up to ~1.2 bytes per voxel) and the band.
-        if (auto why = memoryShortfall(uint64_t(double(planned.voxelCount()) * 3.0),
-                                       "a " + std::to_string(planned.voxelCount()) + "-voxel grid"))
+        // Measured on the greek cubes (docs/performance.md, "Tray-sized
+        // models"): the sdf/normal band ~20 bytes a band voxel, the labels
+        // ~4 bytes a shell voxel (the white core collapses to tiles), the
+        // colour grid ~14, per-slice arrays ~80 bytes a slice voxel.
+        const double voxel_mm3 = double(vs.voxel_mm.x) * vs.voxel_mm.y * vs.voxel_mm.z;
+        double area_mm2 = 0;
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) area_mm2 += mesh.triangleArea_mm2(t);
+        const double bandVoxels = area_mm2 * (fieldBand_mm + std::min(fieldBand_mm, vs.margin_mm)) / voxel_mm3;
+        const double shellVoxels = area_mm2 * (settings.extrude_mm + vs.voxel_mm.z) / voxel_mm3;
+        const Vec3i& r = planned.resolution;
+        const double bandBytes = 20.0 * bandVoxels;
+        const double bytes = bandBytes + (4.0 + (settings.keepColors ? 14.0 : 0.0)) * shellVoxels +
+                             80.0 * double(r.x) * r.y + 24.0 * double(r.y) * r.z + double(planned.voxelCount()) / 8;
+        std::string remedy = "a coarser --voxel or a smaller --fit-mm would fit";
+        if (bandBytes > 0.2 * bytes)
+            remedy = "--band-mm 0 needs " + std::to_string(int64_t(bandBytes / double(1 << 30))) +
+                     " GiB less (the sdf/normal band only printpt's --nee reads); " + remedy;
+        if (auto why = memoryShortfall(uint64_t(bytes), "a " + std::to_string(planned.voxelCount()) + "-voxel grid",
+                                       memoryInUseBytes(), remedy))
             throw PrepareError(*why);
     }
     Voxelizer vox(geometry, vs);
@@ -85,7 +103,7 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
                     ++shell;
                     if (settings.keepColors) fields.setColor(v, colors[at]);
                 }
-                if (s.inBand) {
+                if (s.inBand && std::abs(s.sdf_mm) <= fieldBand_mm) {
                     ++band;
                     fields.setSdf(v, s.sdf_mm);
                     fields.setNormal(v, s.normal);

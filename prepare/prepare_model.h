@@ -31,6 +31,11 @@ struct PrepareSettings {
     enum class Fill { Conservative, Centre } fill = Fill::Conservative;
     std::optional<RGB> color;  // one colour for the whole shell instead of the model's
     bool keepColors = false;   // keep the target colours as a grid
+    // Half-width of the signed-distance and normal band written beside the
+    // labels (printpt's --nee reads it; nothing else does). Default: the
+    // shell depth plus two voxels. 0: none (a tray-sized model's band is
+    // most of prepare's memory, ~20 bytes a band voxel).
+    std::optional<float> fieldBand_mm;
     bool showProgress = false;
 };
 

@@ -239,21 +239,29 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
         throw InputError(desc.sceneFile.string(), *why);
 }
 
-// The surface-voxel sensor's memory, checked before it is made (measured
-// on the 10 mm greek cube, docs/performance.md "Tray-sized models"): per
-// surface voxel the sensor and its patches (~340 bytes; the ray footprint
-// makes them for the .glb after the render), the film (192), the result
-// grid and images (~70); lighttrace's light tallies add 136; per atlas
-// pixel the images, 56.
+// The surface-voxel sensor's memory, checked before it is made: the
+// larger of its two stages, per surface voxel (measured on the 10 mm
+// greek cube, docs/performance.md "Tray-sized models"):
+//  - the render: the sensor (80 bytes; with the patch footprint its
+//    patches, 340), the film (192), the result grid (70), lighttrace's
+//    light tallies (136), and 56 bytes per atlas pixel for the images;
+//  - the .glb after it: the sensor, the colours (12) and, with the ray
+//    footprint, the patches made for it (460 while they are built).
 void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
     const Vec3i& r = frame.resolution;
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
-    const uint64_t lightBytes = desc.render.integrator == "lighttrace" ? 136 * uint64_t(surfaceVoxels) : 0;
-    const uint64_t bytes = 600 * uint64_t(surfaceVoxels) + lightBytes + 56 * atlasPixels;
+    const uint64_t S = surfaceVoxels;
+    const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
+    const uint64_t sensorBytes = (patch ? 340 : 80) * S;
+    const uint64_t lightBytes = desc.render.integrator == "lighttrace" ? 136 * S : 0;
+    const uint64_t renderBytes = sensorBytes + (192 + 70) * S + lightBytes + 56 * atlasPixels;
+    const uint64_t glbBytes = sensorBytes + 12 * S + (patch ? 0 : 460 * S);
     std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks do not help (each "
                          "holds the whole sensor)";
+    if (patch) remedy = "the ray footprint needs " + std::to_string((260 * S) >> 20) + " MiB less; " + remedy;
     if (lightBytes) remedy = "volpath or printpt need " + std::to_string(lightBytes >> 20) + " MiB less; " + remedy;
-    if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", memoryInUseBytes(), remedy))
+    if (auto why = memoryShortfall(std::max(renderBytes, glbBytes), std::to_string(surfaceVoxels) + " surface voxels",
+                                   memoryInUseBytes(), remedy))
         throw InputError(desc.sceneFile.string(), *why);
 }
 }  // namespace
