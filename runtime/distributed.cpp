@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <thread>
 #include <type_traits>
 
 #ifdef PL_WITH_MPI
@@ -26,6 +27,10 @@ bool launchedByMpi() {
         if (std::getenv(name)) return true;
     return false;
 }
+
+// Whether MPI lets a second thread call it (ChunkDealer; else chunks are
+// dealt round the ranks).
+bool threadsServed = false;
 
 // This rank's time in communication (waiting for the others included).
 double secondsCommunicating = 0;
@@ -68,7 +73,12 @@ void broadcastBytes(void* data, size_t size) {
 
 Distributed::Distributed(int* argc, char*** argv) {
     active = launchedByMpi();
-    if (active) MPI_Init(argc, argv);
+    if (!active) return;
+    // Serialized: rank 0's ChunkDealer answers from a thread of its own
+    // while the main thread renders (never both in MPI at once).
+    int provided = 0;
+    MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided);
+    threadsServed = provided >= MPI_THREAD_SERIALIZED;
 }
 Distributed::~Distributed() {
     if (active) MPI_Finalize();
@@ -86,20 +96,26 @@ int Distributed::ranks() {
 bool Distributed::enabled() { return true; }
 double Distributed::secondsCommunicating() { return pl::secondsCommunicating; }
 
-void gatherOnRankZero(Film& film, PathStats& stats) {
+void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>& myPixels) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return;
     static_assert(std::is_trivially_copyable_v<PathStats>);
     CommunicationTimer timer;
     if (me != 0) {
-        const std::vector<char> bytes = film.packPixels(pixelsOfRank(film.pixelCount(), me, n));
+        const uint64_t count = myPixels.size();
+        sendBytes(&count, sizeof count, 0, 1);
+        sendBytes(myPixels.data(), count * sizeof(uint32_t), 0, 1);
+        const std::vector<char> bytes = film.packPixels(myPixels);
         sendBytes(bytes.data(), bytes.size(), 0, 1);
         sendBytes(&stats, sizeof stats, 0, 2);
         return;
     }
     // In rank order: the same sums of the statistics every time.
     for (int r = 1; r < n; ++r) {
-        const std::vector<uint32_t> pixels = pixelsOfRank(film.pixelCount(), r, n);
+        uint64_t count = 0;
+        receiveBytes(&count, sizeof count, r, 1);
+        std::vector<uint32_t> pixels(count);
+        receiveBytes(pixels.data(), count * sizeof(uint32_t), r, 1);
         std::vector<char> bytes(pixels.size() * Film::packedBytesPerPixel());
         receiveBytes(bytes.data(), bytes.size(), r, 1);
         film.unpackPixels(pixels, bytes.data());
@@ -107,6 +123,65 @@ void gatherOnRankZero(Film& film, PathStats& stats) {
         receiveBytes(&theirs, sizeof theirs, r, 2);
         stats += theirs;
     }
+}
+
+namespace {
+constexpr int kAskTag = 7, kChunkTag = 8;
+constexpr uint64_t kNoChunk = ~uint64_t(0);
+}  // namespace
+
+ChunkDealer::ChunkDealer(size_t count) : count_(count) {
+    if (Distributed::ranks() > 1 && Distributed::rank() == 0 && threadsServed)
+        answering_ = std::thread([this] { answerTheOtherRanks(); });
+}
+
+ChunkDealer::~ChunkDealer() {
+    // Rank 0 answers until every other rank has been told there are none.
+    if (Distributed::ranks() > 1 && Distributed::rank() != 0 && threadsServed)
+        while (!exhausted_) next();
+    if (answering_.joinable()) answering_.join();
+}
+
+void ChunkDealer::answerTheOtherRanks() {
+    // Polled with short sleeps: a blocking receive would spin a core that
+    // renders.
+    int finished = 0;
+    while (finished < Distributed::ranks() - 1) {
+        int asked = 0;
+        MPI_Status status;
+        MPI_Iprobe(MPI_ANY_SOURCE, kAskTag, MPI_COMM_WORLD, &asked, &status);
+        if (!asked) {
+            std::this_thread::sleep_for(std::chrono::microseconds(100));
+            continue;
+        }
+        char nothing = 0;
+        MPI_Recv(&nothing, 1, MPI_CHAR, status.MPI_SOURCE, kAskTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        uint64_t chunk = nextChunk_.fetch_add(1);
+        if (chunk >= count_) {
+            chunk = kNoChunk;
+            ++finished;
+        }
+        MPI_Send(&chunk, 1, MPI_UINT64_T, status.MPI_SOURCE, kChunkTag, MPI_COMM_WORLD);
+    }
+}
+
+std::optional<size_t> ChunkDealer::next() {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    if (n > 1 && !threadsServed) {  // dealt round the ranks
+        const size_t chunk = nextChunk_.fetch_add(1) * size_t(n) + size_t(me);
+        return chunk < count_ ? std::optional<size_t>(chunk) : std::nullopt;
+    }
+    if (n == 1 || me == 0) {
+        const size_t chunk = nextChunk_.fetch_add(1);
+        return chunk < count_ ? std::optional<size_t>(chunk) : std::nullopt;
+    }
+    CommunicationTimer timer;
+    char nothing = 0;
+    uint64_t chunk = kNoChunk;
+    MPI_Send(&nothing, 1, MPI_CHAR, 0, kAskTag, MPI_COMM_WORLD);
+    MPI_Recv(&chunk, 1, MPI_UINT64_T, 0, kChunkTag, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    exhausted_ = chunk == kNoChunk;
+    return exhausted_ ? std::nullopt : std::optional<size_t>(chunk);
 }
 
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t pixelCount, int blocks) {
@@ -198,7 +273,14 @@ int Distributed::rank() { return 0; }
 int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
 double Distributed::secondsCommunicating() { return 0; }
-void gatherOnRankZero(Film&, PathStats&) {}
+void gatherOnRankZero(Film&, PathStats&, const std::vector<uint32_t>&) {}
+ChunkDealer::ChunkDealer(size_t count) : count_(count) {}
+ChunkDealer::~ChunkDealer() = default;
+void ChunkDealer::answerTheOtherRanks() {}
+std::optional<size_t> ChunkDealer::next() {
+    const size_t chunk = nextChunk_.fetch_add(1);
+    return chunk < count_ ? std::optional<size_t>(chunk) : std::nullopt;
+}
 std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, size_t, int) { return {std::move(mine)}; }
 std::vector<double> gatherOnRankZero(double mine) { return {mine}; }
 std::vector<std::string> gatherTextOnRankZero(const std::string& mine) { return {mine}; }

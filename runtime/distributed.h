@@ -6,8 +6,11 @@
 // of ranks and threads.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/film.h"
@@ -38,9 +41,32 @@ std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
 int rankOfPixel(uint32_t pixel, int ranks);
 size_t positionInShare(uint32_t pixel, int ranks);
 
-// Gathers every rank's pixels of `film` and sums `stats` on rank 0 (the
-// other ranks' are left as they were). Collective: every rank calls it.
-void gatherOnRankZero(Film& film, PathStats& stats);
+// Gathers every rank's pixels of `film` (each passes the pixels it
+// rendered) and sums `stats` on rank 0 (the other ranks' are left as they
+// were). Collective: every rank calls it.
+void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>& myPixels);
+
+// Work stealing by chunks: chunks [0, count) handed out as the ranks ask
+// for them, so a rank that is faster (its pixels cheaper, its node
+// quicker) takes more. Rank 0 keeps the count and a thread of its own
+// answers the other ranks. Collective: every rank makes one with the same
+// count and asks until it gets none (its destructor does, after an
+// exception). One process: 0, 1, ..., count - 1.
+class ChunkDealer {
+public:
+    explicit ChunkDealer(size_t count);
+    ~ChunkDealer();
+    ChunkDealer(const ChunkDealer&) = delete;
+    ChunkDealer& operator=(const ChunkDealer&) = delete;
+    std::optional<size_t> next();
+
+private:
+    void answerTheOtherRanks();
+    size_t count_;
+    bool exhausted_ = false;  // this rank has been told there are none left
+    std::atomic<size_t> nextChunk_{0};  // on rank 0
+    std::thread answering_;             // on rank 0, with more than one rank
+};
 
 // Light blocks shared round the ranks (scene/render.cpp): in a wave of
 // `blocks` blocks, rank r < blocks has computed block r over every pixel

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -140,7 +141,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     }
     throwIfInterrupted();
     progress.finish();
-    result.film.poolResiduals();
+    if (!share.acrossRanks) result.film.poolResiduals();  // across ranks: rank 0, once gathered
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -155,20 +156,51 @@ bool rendersChannelsInOnePass(const RenderSettings& settings) {
 PathStats gatherShares(RenderResult& result, const PixelShare& share) {
     PathStats all = result.stats;
     if (!share.acrossRanks) return all;
-    gatherOnRankZero(result.film, all);
+    gatherOnRankZero(result.film, all, share.pixels);
     if (Distributed::rank() == 0) result.film.poolResiduals();
     return all;
 }
 
+namespace {
+// Pixels per chunk of work stealing across ranks: long enough that asking
+// rank 0 for the next (a round trip) is cheap beside rendering it.
+constexpr size_t kClaimedChunkPixels = 4096;
+
+// Across ranks, for estimators that render each pixel alone: chunks of
+// pixels claimed from rank 0 until none are left (ChunkDealer), each
+// rendered whole. Returns the pixels this rank rendered.
+std::vector<uint32_t> renderClaimedChunks(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
+                                          const RenderSettings& settings, RenderResult& result) {
+    RenderSettings chunkSettings = settings;
+    chunkSettings.showProgress = false;  // a bar per chunk says nothing
+    const size_t n = sensor.pixelCount();
+    ChunkDealer dealer((n + kClaimedChunkPixels - 1) / kClaimedChunkPixels);
+    std::vector<uint32_t> rendered;
+    while (const std::optional<size_t> chunk = dealer.next()) {
+        PixelShare pixels{{}, true};
+        for (size_t p = *chunk * kClaimedChunkPixels; p < std::min(n, (*chunk + 1) * kClaimedChunkPixels); ++p)
+            pixels.pixels.push_back(uint32_t(p));
+        renderSamples(integrator, scene, sensor, chunkSettings, pixels, 0, settings.spp, result);
+        rendered.insert(rendered.end(), pixels.pixels.begin(), pixels.pixels.end());
+    }
+    return rendered;
+}
+}  // namespace
+
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
     RenderResult result{Film(sensor.pixelCount())};
     const auto start = std::chrono::steady_clock::now();
-    const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
     const double communicatedBefore = Distributed::secondsCommunicating();
     std::string failure;
     try {
         std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
-        renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
+        // Light paths serve every pixel: their shares are fixed (the
+        // blocks' scores go to each pixel's rank); other estimators steal.
+        if (share.acrossRanks && !integrator->scoresLightPaths())
+            share.pixels = renderClaimedChunks(*integrator, scene, sensor, settings, result);
+        else
+            renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
     } catch (const std::exception& e) {
         if (!share.acrossRanks) throw;
         failure = e.what();

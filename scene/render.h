@@ -66,10 +66,11 @@ std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sen
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);
 
-// The pixels a call renders: all, a list, or across MPI ranks part of
-// this rank's share (pixelsOfRank, runtime/distributed.h), the other ranks
-// rendering part of theirs in the same call, in step (light paths are
-// shared round them).
+// The pixels a call renders: all, a list, or across MPI ranks this rank's
+// part of a render the other ranks take part in (rank 0 pools the
+// residuals once it has gathered the films). With light paths a rank's
+// part lies in its share (pixelsOfRank, runtime/distributed.h) and every
+// rank calls in step (the light paths are shared round them).
 struct PixelShare {
     std::vector<uint32_t> pixels;  // empty: all in one process, none across ranks
     bool acrossRanks = false;

@@ -223,6 +223,41 @@ TEST(PrepareModel, ABoxInOneColourHasAHalftonedShellAndAWhiteCore) {
     EXPECT_THROW(prepareModel(box, SurfaceAppearance{}, settings), PrepareError);
 }
 
+// --band-mm: the sdf/normal band written is as wide as asked (the shell
+// and labels do not change); 0 writes no sdf/normal grids.
+TEST(PrepareModel, TheDistanceBandIsAsWideAsAsked) {
+    Geometry box(synthetic::boxMesh({0, 0, 0}, {2, 2, 2}));
+    PrepareSettings settings;
+    settings.voxel_mm = {0.1f, 0.1f, 0.1f};
+    settings.extrude_mm = 0.3f;
+    const PreparedModel full = prepareModel(box, SurfaceAppearance{}, settings);
+    settings.fieldBand_mm = 0.15f;
+    const PreparedModel narrow = prepareModel(box, SurfaceAppearance{}, settings);
+    settings.fieldBand_mm = 0.0f;
+    const PreparedModel none = prepareModel(box, SurfaceAppearance{}, settings);
+    EXPECT_GT(full.bandVoxels, narrow.bandVoxels);
+    EXPECT_GT(narrow.bandVoxels, 0u);
+    EXPECT_EQ(none.bandVoxels, 0u);
+    EXPECT_EQ(full.labels.histogram(), none.labels.histogram());
+    // Voxel centres within 0.15 mm of the faces: the outer layer (0.05 mm
+    // in) and the one outside it, 20 x 20 on each of 6 faces, and more.
+    EXPECT_GE(narrow.bandVoxels, 2u * 6u * 20u * 20u);
+    const GridFrame& f = narrow.labels.frame();
+    for (int x = f.indexMin.x; x < f.indexMin.x + f.resolution.x; ++x) {
+        const Vec3i v{x, f.indexMin.y + f.resolution.y / 2, f.indexMin.z + f.resolution.z / 2};
+        const float trueDistance_mm = std::min(f.voxelCenter_mm(v).x, 2.0f - f.voxelCenter_mm(v).x);
+        if (std::abs(trueDistance_mm) <= 0.149f) {
+            EXPECT_NEAR(narrow.fields.sdf(v), -trueDistance_mm, 1e-4f) << x;
+        }
+    }
+    auto dir = test::freshTempDir("prepare_band");
+    writePreparedVdb(none.labels, none.fields, dir / "none.vdb");
+    EXPECT_EQ(loadVoxelFields(dir / "none.vdb", none.labels.frame()), nullptr);
+    writePreparedVdb(narrow.labels, narrow.fields, dir / "narrow.vdb");
+    EXPECT_NE(loadVoxelFields(dir / "narrow.vdb", narrow.labels.frame()), nullptr);
+    std::filesystem::remove_all(dir);
+}
+
 TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
     auto dir = test::freshTempDir("prepare_cli");
     // OBJ whose material names a texture that is not there.
