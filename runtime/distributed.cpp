@@ -151,7 +151,7 @@ void ChunkDealer::answerTheOtherRanks() {
         MPI_Status status;
         MPI_Iprobe(MPI_ANY_SOURCE, kAskTag, MPI_COMM_WORLD, &asked, &status);
         if (!asked) {
-            std::this_thread::sleep_for(std::chrono::microseconds(100));
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
             continue;
         }
         char nothing = 0;

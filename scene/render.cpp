@@ -164,7 +164,7 @@ PathStats gatherShares(RenderResult& result, const PixelShare& share) {
 namespace {
 // Pixels per chunk of work stealing across ranks: long enough that asking
 // rank 0 for the next (a round trip) is cheap beside rendering it.
-constexpr size_t kClaimedChunkPixels = 4096;
+constexpr size_t kClaimedChunkPixels = 1024;
 
 // Across ranks, for estimators that render each pixel alone: chunks of
 // pixels claimed from rank 0 until none are left (ChunkDealer), each
