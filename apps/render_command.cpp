@@ -94,11 +94,16 @@ int renderCommand(const std::vector<std::string>& argv) {
     const int rank = Distributed::rank(), ranks = Distributed::ranks();
     bool quiet = args.has("--quiet") || rank != 0;
     const RenderSettings& rs = desc.render;
-    Scene scene = loadScene(desc, sceneNeedsOf(rs));
-    if (sceneNeedsOf(rs).surfaceFields && !scene.medium->hasSurfaceFields())
+    // Every rank loads the scene; if any cannot, all stop and rank 0 says why.
+    Scene scene;
+    std::unique_ptr<Sensor> sensor;
+    runOnEveryRank([&] {
+        scene = loadScene(desc, sceneNeedsOf(rs));
+        sensor = makeSensor(desc, scene);
+    });
+    if (sceneNeedsOf(rs).surfaceFields && !scene.medium->hasSurfaceFields() && rank == 0)
         std::fprintf(stderr, "printlight: warning: %s has no sdf/normal grids: next-event estimation is off\n",
                      desc.labelsFile.string().c_str());
-    std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
     double setupSeconds = secondsSince(t0);
     const GridFrame& f = scene.medium->frame();
     if (!quiet)

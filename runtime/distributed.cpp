@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <type_traits>
 
@@ -289,6 +291,22 @@ void broadcastFromRankZero(Film&, PathStats&) {}
 bool anyRankFailed(bool failed) { return failed; }
 
 #endif
+
+void runOnEveryRank(const std::function<void()>& work) {
+    if (Distributed::ranks() == 1) return work();
+    std::string failure;
+    try {
+        work();
+    } catch (const std::exception& e) {
+        failure = *e.what() ? e.what() : "failed";
+    }
+    if (!anyRankFailed(!failure.empty())) return;
+    const std::vector<std::string> failures = gatherTextOnRankZero(failure);
+    for (size_t r = 0; r < failures.size(); ++r)
+        if (!failures[r].empty())
+            throw std::runtime_error(r == 0 ? failures[r] : "MPI rank " + std::to_string(r) + ": " + failures[r]);
+    throw std::runtime_error("another MPI rank failed");  // ranks other than 0 (they stay quiet)
+}
 
 std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks) {
     std::vector<uint32_t> pixels;

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <thread>
@@ -92,5 +93,12 @@ void broadcastFromRankZero(Film& film, PathStats& stats);
 // A failure on any rank fails them all: every rank calls it with whether it
 // failed; true if any did. Collective.
 bool anyRankFailed(bool failed);
+
+// Runs `work` on every rank; if it throws on any, it throws on every rank
+// (std::runtime_error; on rank 0 with the first failed rank's message,
+// "MPI rank r: ..." for another rank's), so that rank 0 reports one line
+// and no rank goes on to wait for the others. One process: runs it.
+// Collective.
+void runOnEveryRank(const std::function<void()>& work);
 
 }  // namespace pl

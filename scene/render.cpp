@@ -192,8 +192,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     const auto start = std::chrono::steady_clock::now();
     PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
     const double communicatedBefore = Distributed::secondsCommunicating();
-    std::string failure;
-    try {
+    auto work = [&] {
         std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
         // Light paths serve every pixel: their shares are fixed (the
         // blocks' scores go to each pixel's rank); other estimators steal.
@@ -201,12 +200,11 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
             share.pixels = renderClaimedChunks(*integrator, scene, sensor, settings, result);
         else
             renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
-    } catch (const std::exception& e) {
-        if (!share.acrossRanks) throw;
-        failure = e.what();
-    }
-    if (share.acrossRanks && anyRankFailed(!failure.empty()))
-        throw std::runtime_error(failure.empty() ? "another MPI rank failed" : failure);
+    };
+    if (share.acrossRanks)
+        runOnEveryRank(work);
+    else
+        work();
     result.stats = gatherShares(result, share);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (share.acrossRanks)

@@ -217,11 +217,11 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
 
     // optimize: every rank runs the loop on the same predictions, each
     // rendering its share of them (adaptive rounds too).
-    const std::string launcher = std::string("mpirun -n 2 --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "");
+    const std::string launcher = std::string("mpirun --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "");
     const std::string optimize = std::string(" optimize ") + s.write().string() +
                                  " --target 0.2,0.45,0.8 --iterations 2 --spp 2 --threads 1 -o ";
     ASSERT_EQ(printlight(optimize + (s.dir / "one" / "opt").string(), s.dir).exitCode, 0);
-    const std::string optimizeOnRanks = launcher + " " + PRINTLIGHT_EXE + optimize + (s.dir / "two" / "opt").string() +
+    const std::string optimizeOnRanks = launcher + " -n 2 " + PRINTLIGHT_EXE + optimize + (s.dir / "two" / "opt").string() +
                                         " >" + (s.dir / "opt.log").string() + " 2>&1";
     ASSERT_EQ(std::system(optimizeOnRanks.c_str()), 0) << readText(s.dir / "opt.log");
     const auto oneRows = readCsvNumbers((s.dir / "one" / "opt.csv").string());
@@ -232,6 +232,20 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     EXPECT_EQ(loadLabelGrid(s.dir / "one" / "opt_labels.vdb", std::nullopt).histogram(),
               loadLabelGrid(s.dir / "two" / "opt_labels.vdb", std::nullopt).histogram());
     EXPECT_EQ(test::countOf(readText(s.dir / "opt.log"), "iteration,"), 1) << "rank 0 speaks";
+
+    // A failure on one rank (its memory budget too small to load the
+    // grid): every rank stops, rank 0 prints one line naming the rank, and
+    // nothing is written (mpirun adds its own notice).
+    const std::string oneRankFails = launcher + " -n 1 " + PRINTLIGHT_EXE + " render " + s.write().string() +
+                                     " --spp 1 -o " + s.out().string() + " : -n 1 env PRINTLIGHT_MEMORY_LIMIT_MB=1 " +
+                                     PRINTLIGHT_EXE + " render " + s.write().string() + " --spp 1 -o " +
+                                     s.out().string() + " >" + (s.dir / "fail.log").string() + " 2>&1";
+    EXPECT_NE(std::system(oneRankFails.c_str()), 0);
+    const std::string failLog = readText(s.dir / "fail.log");
+    EXPECT_EQ(test::countOf(failLog, "printlight: error"), 1) << failLog;
+    EXPECT_NE(failLog.find("printlight: error: MPI rank 1: "), std::string::npos) << failLog;
+    EXPECT_NE(failLog.find("refused before allocating"), std::string::npos) << failLog;
+    EXPECT_FALSE(s.anyOutput());
 
     // A failure on the ranks: one line, from rank 0, and no output.
     const std::string failing = mpirun + "--integrator lighttrace -o " + s.out().string() + " >" +
