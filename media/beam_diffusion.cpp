@@ -1,0 +1,115 @@
+#include "media/beam_diffusion.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pl {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Depth samples along the beam (pbrt-v3 takes 100, regularly spaced in
+// the exponential's cumulative distribution).
+constexpr int kBeamSamples = 100;
+
+double hgPhase(double cosTheta, double g) {
+    const double denominator = 1.0 + g * g - 2.0 * g * cosTheta;
+    return (1.0 - g * g) / (4.0 * kPi * denominator * std::sqrt(denominator));
+}
+
+// Integral of f over [a, 1] where f has a square-root kink at a (Fresnel
+// at the critical angle): mu = a + (1 - a) t^2, Gauss-Legendre in t.
+template <class F>
+double integrateAboveKink(double a, F f) {
+    constexpr int n = 64;
+    double nodes[n], weights[n];
+    gaussLegendre(n, nodes, weights);
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+        const double t = 0.5 * (nodes[i] + 1.0);
+        sum += 0.5 * weights[i] * f(a + (1.0 - a) * t * t) * 2.0 * (1.0 - a) * t;
+    }
+    return sum;
+}
+
+double criticalCosine(double ior) { return ior > 1.0 ? std::sqrt(1.0 - 1.0 / (ior * ior)) : 0.0; }
+
+}  // namespace
+
+double fresnelMomentInside(int n, double ior) {
+    const double muC = criticalCosine(ior);
+    // Below the critical cosine F = 1.
+    return std::pow(muC, n + 1) / (n + 1) +
+           integrateAboveKink(muC, [&](double mu) { return fresnelFromInside(mu, ior) * std::pow(mu, n); });
+}
+
+BeamDiffusion::BeamDiffusion(const SlabMedium& medium, double sigmaT_perMm)
+    : albedo_(medium.albedo), g_(medium.g), ior_(medium.ior), sigmaT_(sigmaT_perMm) {
+    const double sigmaS = albedo_ * sigmaT_, sigmaA = sigmaT_ - sigmaS;
+    const double sigmaSReduced = (1.0 - g_) * sigmaS;
+    sigmaTReduced_ = sigmaA + sigmaSReduced;
+    albedoReduced_ = sigmaSReduced / sigmaTReduced_;
+    D_mm_ = (2.0 * sigmaA + sigmaSReduced) / (3.0 * sigmaTReduced_ * sigmaTReduced_);  // Grosjean
+    sigmaTr_ = std::sqrt(sigmaA / D_mm_);
+    const double c1 = fresnelMomentInside(1, ior_), c2 = fresnelMomentInside(2, ior_);
+    zb_mm_ = 2.0 * D_mm_ * (1.0 + 3.0 * c2) / (1.0 - 2.0 * c1);
+    cPhi_ = 0.25 * (1.0 - 2.0 * c1);
+    cE_ = 0.5 * (1.0 - 3.0 * c2);
+}
+
+double BeamDiffusion::dipole_perMm2(double r_mm, double zr_mm) const {
+    const double zv_mm = -zr_mm - 2.0 * zb_mm_;
+    const double dr = std::sqrt(r_mm * r_mm + zr_mm * zr_mm), dv = std::sqrt(r_mm * r_mm + zv_mm * zv_mm);
+    const double er = std::exp(-sigmaTr_ * dr), ev = std::exp(-sigmaTr_ * dv);
+    const double fluence = (er / dr - ev / dv) / (4.0 * kPi * D_mm_);
+    const double flux = (zr_mm * (1.0 + sigmaTr_ * dr) * er / (dr * dr * dr) -
+                         zv_mm * (1.0 + sigmaTr_ * dv) * ev / (dv * dv * dv)) /
+                        (4.0 * kPi);
+    return cPhi_ * fluence + cE_ * flux;
+}
+
+double BeamDiffusion::multipleScattering_perMm2(double r_mm, bool nearSurfaceCorrection) const {
+    // First scatters along the beam, density sigma_s' exp(-sigma_t' z),
+    // sampled from exp(-sigma_t' z) (weight alpha'); each source emits
+    // alpha' of what it scatters (the improved diffusion source).
+    double sum = 0;
+    for (int i = 0; i < kBeamSamples; ++i) {
+        const double z = -std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaTReduced_;
+        double term = dipole_perMm2(r_mm, z);
+        if (nearSurfaceCorrection)
+            term *= 1.0 - std::exp(-2.0 * sigmaTReduced_ * (std::sqrt(r_mm * r_mm + z * z) + z));
+        sum += term;
+    }
+    return albedoReduced_ * albedoReduced_ * sum / kBeamSamples;
+}
+
+double BeamDiffusion::singleScattering_perMm2(double r_mm) const {
+    // Depths from which the exit point is seen inside the critical cone,
+    // sampled from exp(-sigma_t (t - tCrit)).
+    const double tCrit = r_mm * std::sqrt(std::max(0.0, ior_ * ior_ - 1.0));
+    double sum = 0;
+    for (int i = 0; i < kBeamSamples; ++i) {
+        const double t = tCrit - std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaT_;
+        const double d = std::sqrt(r_mm * r_mm + t * t), mu = t / d;
+        sum += std::exp(-sigmaT_ * (d + tCrit)) / (d * d) * hgPhase(-mu, g_) * (1.0 - fresnelFromInside(mu, ior_)) * mu;
+    }
+    return albedo_ * sum / kBeamSamples;
+}
+
+double BeamDiffusion::singleScatteringTotal() const {
+    return 2.0 * kPi * albedo_ * integrateAboveKink(criticalCosine(ior_), [&](double mu) {
+               return hgPhase(-mu, g_) * (1.0 - fresnelFromInside(mu, ior_)) * mu / (1.0 + mu);
+           });
+}
+
+double BeamDiffusion::multipleScatteringTotalWithoutCorrection() const {
+    // Over the plane, a dipole at depth zr leaves C_phi (e^{-s zr} -
+    // e^{-s |zv|}) / (2 D s) + C_E (e^{-s zr} + e^{-s |zv|}) / 2, s = sigma_tr;
+    // integrated over the sources' exponential depths.
+    const double s = sigmaTr_, k = sigmaTReduced_;
+    const double depth = k / (k + s), image = std::exp(-2.0 * s * zb_mm_);
+    return albedoReduced_ * albedoReduced_ * depth *
+           (cPhi_ * (1.0 - image) / (2.0 * D_mm_ * s) + cE_ * (1.0 + image) / 2.0);
+}
+
+}  // namespace pl

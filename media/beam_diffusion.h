@@ -1,0 +1,53 @@
+// Photon beam diffusion (Habel, Christensen and Jarosz 2013; the recipe of
+// pbrt-v3's BeamDiffusionMS/SS, summarised with its equations in
+// docs/diffusion.md): the light that a beam entering a homogeneous
+// half-space along its inward normal brings out of the surface, per unit
+// area at distance r from where it entered, per unit of the beam's power
+// inside. Multiple scattering is the diffusion of dipoles placed along
+// the beam (Grosjean's diffusion coefficient, the Kienle-Patterson
+// boundary); single scattering is exact. The fast predictor's profile
+// (issue 30): its bias against the exact half-space (slab_transport.h)
+// is measured in tests/test_beam_diffusion.cpp.
+#pragma once
+
+#include "media/slab_transport.h"
+
+namespace pl {
+
+// C_n = integral over [0, 1] of F(mu) mu^n dmu, F the Fresnel reflectance
+// of light inside a medium of relative index ior at internal cosine mu.
+double fresnelMomentInside(int n, double ior);
+
+class BeamDiffusion {
+public:
+    // medium: albedo, g and ior (its optical thickness is ignored: a
+    // half-space); sigmaT_perMm scales the profile to millimetres.
+    BeamDiffusion(const SlabMedium& medium, double sigmaT_perMm);
+
+    // Multiple scattering at distance r_mm, per mm^2. nearSurfaceCorrection:
+    // Habel's factor for dipoles near the surface, 1 - exp(-2 sigma_t'
+    // (d_r + z)); without it the integral has a closed form.
+    double multipleScattering_perMm2(double r_mm, bool nearSurfaceCorrection = true) const;
+    // Single scattering at distance r_mm, per mm^2 (grows as 1 / r at 0).
+    double singleScattering_perMm2(double r_mm) const;
+
+    // Over the whole plane: single scattering (exactly, a 1-D integral
+    // over exit cosines) and multiple scattering without the near-surface
+    // correction (closed form).
+    double singleScatteringTotal() const;
+    double multipleScatteringTotalWithoutCorrection() const;
+
+    // The length over which diffusion spreads light, 1 / sigma_tr (mm).
+    double diffusionLength_mm() const { return 1.0 / sigmaTr_; }
+
+private:
+    // Exitance at r of one dipole whose real source is at depth zr.
+    double dipole_perMm2(double r_mm, double zr_mm) const;
+
+    double albedo_, g_, ior_;
+    double sigmaT_, sigmaTReduced_, albedoReduced_;
+    double D_mm_, sigmaTr_, zb_mm_;
+    double cPhi_, cE_;
+};
+
+}  // namespace pl
