@@ -1,7 +1,5 @@
 #include "api/predictor.h"
 
-#include "runtime/distributed.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>

@@ -339,8 +339,12 @@ int benchCommand(const std::vector<std::string>& argv) {
     reference.integrator = args.value("--integrator").value_or("volpath");
     auto makeRefPath = args.value("--make-reference");
     if (makeRefPath) needs |= sceneNeedsOf(reference);
-    Scene scene = loadScene(desc, needs);
-    std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+    Scene scene;
+    std::unique_ptr<Sensor> sensor;
+    runOnEveryRank([&] {  // on every rank, or none (rank 0 says why)
+        scene = loadScene(desc, needs);
+        sensor = makeSensor(desc, scene);
+    });
     // Across MPI ranks every render is split over them (each renders its
     // share of the pixels); rank 0 measures, prints and writes. Times are
     // rank 0's wall times; events/s/core count every rank's threads.

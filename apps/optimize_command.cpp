@@ -130,7 +130,9 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
-    Predictor predictor(desc, desc.render);
+    std::unique_ptr<Predictor> loaded;  // on every rank, or none (rank 0 says why)
+    runOnEveryRank([&] { loaded = std::make_unique<Predictor>(desc, desc.render); });
+    Predictor& predictor = *loaded;
     // Across MPI ranks every rank runs the loop on the same predictions
     // (each renders its share of them); rank 0 speaks and writes.
     const bool speaks = Distributed::rank() == 0;

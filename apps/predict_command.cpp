@@ -30,7 +30,8 @@ int predictCommand(const std::vector<std::string>& argv) {
     auto t0 = std::chrono::steady_clock::now();
     SceneDescription desc = parseScene(args.positional()[0]);
     applyRenderOptions(args, desc.render);
-    auto predictor = std::make_unique<Predictor>(desc, desc.render);
+    std::unique_ptr<Predictor> predictor;  // on every rank, or none (rank 0 says why)
+    runOnEveryRank([&] { predictor = std::make_unique<Predictor>(desc, desc.render); });
     // Across MPI ranks every rank makes the same changes and renders its
     // share of each prediction; rank 0 speaks.
     predictor->setAcrossRanks(Distributed::ranks() > 1);

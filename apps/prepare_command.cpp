@@ -55,8 +55,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
                     {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
                     {"--keep-colors", "", "also write the colour grid the labels were halftoned from"},
-                    {"--band-mm", "D", "half-width of the sdf/normal band (default: the shell depth plus two voxels; "
-                                       "0: none; only printpt's --nee reads it)"},
+                    {"--band-mm", "D", "half-width of the sdf/normal band, at most the default (the shell depth plus "
+                                       "two voxels); 0: none; only printpt's --nee reads it"},
                     {"--scene-out", "PREFIX", "also write scenes for the result (PREFIX_surface.json, _preview.json)"},
                     kThreadsOption,
                     kQuietOption});

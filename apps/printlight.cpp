@@ -80,6 +80,7 @@ int main(int argc, char** argv) {
         std::fputs(help.text.c_str(), stdout);
         return 0;
     } catch (const pl::Interrupted&) {
+        if (pl::Distributed::rank() != 0) return 130;
         std::fprintf(stderr, "\nprintlight: interrupted; nothing written\n");
         return 130;
     } catch (const pl::UsageError& e) {
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "printlight: %s%s\n", e.what(), e.message.find("--help") == std::string::npos ? hint.c_str() : "");
         return 2;
     } catch (const std::exception& e) {
-        if (pl::Distributed::rank() != 0) return 1;  // failures reach rank 0 (anyRankFailed)
+        if (pl::Distributed::rank() != 0) return 1;  // failures reach rank 0 (runOnEveryRank)
         std::fprintf(stderr, "printlight: error: %s\n", e.what());
         return 1;
     }

@@ -296,9 +296,9 @@ void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
 namespace {
 
 // A glTF document of one mesh (positions in metres, as glTF says, from
-// millimetres; UVs and linear vertex colours where the appearance has
-// them, as floats or, compactly, as normalised 16-bit RGBA; no index
-// buffer where the mesh has no indices) and its binary buffer.
+// millimetres; UVs and linear vertex colours, as floats, where the
+// appearance has them; no index buffer where the mesh has no indices) and
+// its binary buffer.
 struct GltfDocument {
     nlohmann::json gltf;
     std::vector<unsigned char> buffer;

@@ -44,13 +44,13 @@ double fresnelMomentInside(int n, double ior) {
 }
 
 BeamDiffusion::BeamDiffusion(const SlabMedium& medium, double sigmaT_perMm)
-    : albedo_(medium.albedo), g_(medium.g), ior_(medium.ior), sigmaT_(sigmaT_perMm) {
-    const double sigmaS = albedo_ * sigmaT_, sigmaA = sigmaT_ - sigmaS;
+    : albedo_(medium.albedo), g_(medium.g), ior_(medium.ior), sigmaT_perMm_(sigmaT_perMm) {
+    const double sigmaS = albedo_ * sigmaT_perMm_, sigmaA = sigmaT_perMm_ - sigmaS;
     const double sigmaSReduced = (1.0 - g_) * sigmaS;
-    sigmaTReduced_ = sigmaA + sigmaSReduced;
-    albedoReduced_ = sigmaSReduced / sigmaTReduced_;
-    D_mm_ = (2.0 * sigmaA + sigmaSReduced) / (3.0 * sigmaTReduced_ * sigmaTReduced_);  // Grosjean
-    sigmaTr_ = std::sqrt(sigmaA / D_mm_);
+    sigmaTReduced_perMm_ = sigmaA + sigmaSReduced;
+    albedoReduced_ = sigmaSReduced / sigmaTReduced_perMm_;
+    D_mm_ = (2.0 * sigmaA + sigmaSReduced) / (3.0 * sigmaTReduced_perMm_ * sigmaTReduced_perMm_);  // Grosjean
+    sigmaTr_perMm_ = std::sqrt(sigmaA / D_mm_);
     const double c1 = fresnelMomentInside(1, ior_), c2 = fresnelMomentInside(2, ior_);
     zb_mm_ = 2.0 * D_mm_ * (1.0 + 3.0 * c2) / (1.0 - 2.0 * c1);
     cPhi_ = 0.25 * (1.0 - 2.0 * c1);
@@ -60,10 +60,10 @@ BeamDiffusion::BeamDiffusion(const SlabMedium& medium, double sigmaT_perMm)
 double BeamDiffusion::dipole_perMm2(double r_mm, double zr_mm) const {
     const double zv_mm = -zr_mm - 2.0 * zb_mm_;
     const double dr = std::sqrt(r_mm * r_mm + zr_mm * zr_mm), dv = std::sqrt(r_mm * r_mm + zv_mm * zv_mm);
-    const double er = std::exp(-sigmaTr_ * dr), ev = std::exp(-sigmaTr_ * dv);
+    const double er = std::exp(-sigmaTr_perMm_ * dr), ev = std::exp(-sigmaTr_perMm_ * dv);
     const double fluence = (er / dr - ev / dv) / (4.0 * kPi * D_mm_);
-    const double flux = (zr_mm * (1.0 + sigmaTr_ * dr) * er / (dr * dr * dr) -
-                         zv_mm * (1.0 + sigmaTr_ * dv) * ev / (dv * dv * dv)) /
+    const double flux = (zr_mm * (1.0 + sigmaTr_perMm_ * dr) * er / (dr * dr * dr) -
+                         zv_mm * (1.0 + sigmaTr_perMm_ * dv) * ev / (dv * dv * dv)) /
                         (4.0 * kPi);
     return cPhi_ * fluence + cE_ * flux;
 }
@@ -74,10 +74,10 @@ double BeamDiffusion::multipleScattering_perMm2(double r_mm, bool nearSurfaceCor
     // alpha' of what it scatters (the improved diffusion source).
     double sum = 0;
     for (int i = 0; i < kBeamSamples; ++i) {
-        const double z = -std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaTReduced_;
+        const double z = -std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaTReduced_perMm_;
         double term = dipole_perMm2(r_mm, z);
         if (nearSurfaceCorrection)
-            term *= 1.0 - std::exp(-2.0 * sigmaTReduced_ * (std::sqrt(r_mm * r_mm + z * z) + z));
+            term *= 1.0 - std::exp(-2.0 * sigmaTReduced_perMm_ * (std::sqrt(r_mm * r_mm + z * z) + z));
         sum += term;
     }
     return albedoReduced_ * albedoReduced_ * sum / kBeamSamples;
@@ -89,9 +89,9 @@ double BeamDiffusion::singleScattering_perMm2(double r_mm) const {
     const double tCrit = r_mm * std::sqrt(std::max(0.0, ior_ * ior_ - 1.0));
     double sum = 0;
     for (int i = 0; i < kBeamSamples; ++i) {
-        const double t = tCrit - std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaT_;
+        const double t = tCrit - std::log(1.0 - (i + 0.5) / kBeamSamples) / sigmaT_perMm_;
         const double d = std::sqrt(r_mm * r_mm + t * t), mu = t / d;
-        sum += std::exp(-sigmaT_ * (d + tCrit)) / (d * d) * hgPhase(-mu, g_) * (1.0 - fresnelFromInside(mu, ior_)) * mu;
+        sum += std::exp(-sigmaT_perMm_ * (d + tCrit)) / (d * d) * hgPhase(-mu, g_) * (1.0 - fresnelFromInside(mu, ior_)) * mu;
     }
     return albedo_ * sum / kBeamSamples;
 }
@@ -106,7 +106,7 @@ double BeamDiffusion::multipleScatteringTotalWithoutCorrection() const {
     // Over the plane, a dipole at depth zr leaves C_phi (e^{-s zr} -
     // e^{-s |zv|}) / (2 D s) + C_E (e^{-s zr} + e^{-s |zv|}) / 2, s = sigma_tr;
     // integrated over the sources' exponential depths.
-    const double s = sigmaTr_, k = sigmaTReduced_;
+    const double s = sigmaTr_perMm_, k = sigmaTReduced_perMm_;
     const double depth = k / (k + s), image = std::exp(-2.0 * s * zb_mm_);
     return albedoReduced_ * albedoReduced_ * depth *
            (cPhi_ * (1.0 - image) / (2.0 * D_mm_ * s) + cE_ * (1.0 + image) / 2.0);

@@ -20,8 +20,9 @@ double fresnelMomentInside(int n, double ior);
 
 class BeamDiffusion {
 public:
-    // medium: albedo, g and ior (its optical thickness is ignored: a
-    // half-space); sigmaT_perMm scales the profile to millimetres.
+    // medium: albedo in [0, 1) (without absorption nothing bounds the
+    // half-space's diffusion), g and ior (its optical thickness is
+    // ignored: a half-space); sigmaT_perMm scales the profile to mm.
     BeamDiffusion(const SlabMedium& medium, double sigmaT_perMm);
 
     // Multiple scattering at distance r_mm, per mm^2. nearSurfaceCorrection:
@@ -37,16 +38,17 @@ public:
     double singleScatteringTotal() const;
     double multipleScatteringTotalWithoutCorrection() const;
 
-    // The length over which diffusion spreads light, 1 / sigma_tr (mm).
-    double diffusionLength_mm() const { return 1.0 / sigmaTr_; }
+    // The length over which diffusion spreads light, 1 / sigma_tr (mm;
+    // infinite without absorption).
+    double diffusionLength_mm() const { return 1.0 / sigmaTr_perMm_; }
 
 private:
     // Exitance at r of one dipole whose real source is at depth zr.
     double dipole_perMm2(double r_mm, double zr_mm) const;
 
     double albedo_, g_, ior_;
-    double sigmaT_, sigmaTReduced_, albedoReduced_;
-    double D_mm_, sigmaTr_, zb_mm_;
+    double sigmaT_perMm_, sigmaTReduced_perMm_, albedoReduced_;
+    double D_mm_, sigmaTr_perMm_, zb_mm_;
     double cPhi_, cE_;
 };
 

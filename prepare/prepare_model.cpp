@@ -48,8 +48,8 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
                              80.0 * double(r.x) * r.y + 24.0 * double(r.y) * r.z + double(planned.voxelCount()) / 8;
         std::string remedy = "a coarser --voxel or a smaller --fit-mm would fit";
         if (bandBytes > 0.2 * bytes)
-            remedy = "--band-mm 0 needs " + std::to_string(int64_t(bandBytes / double(1 << 30))) +
-                     " GiB less (the sdf/normal band only printpt's --nee reads); " + remedy;
+            remedy = "--band-mm 0 needs " + std::to_string(int64_t(bandBytes) >> 20) +
+                     " MiB less (the sdf/normal band only printpt's --nee reads); " + remedy;
         if (auto why = memoryShortfall(uint64_t(bytes), "a " + std::to_string(planned.voxelCount()) + "-voxel grid",
                                        memoryInUseBytes(), remedy))
             throw PrepareError(*why);

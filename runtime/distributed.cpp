@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
+#include <exception>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -29,6 +30,8 @@ bool launchedByMpi() {
         if (std::getenv(name)) return true;
     return false;
 }
+
+int thisRank = 0, rankCount = 1;
 
 // Whether MPI lets a second thread call it (ChunkDealer; else chunks are
 // dealt round the ranks).
@@ -81,20 +84,16 @@ Distributed::Distributed(int* argc, char*** argv) {
     int provided = 0;
     MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided);
     threadsServed = provided >= MPI_THREAD_SERIALIZED;
+    // Kept: asking MPI again would be a second thread's call while rank
+    // 0's ChunkDealer answers.
+    MPI_Comm_rank(MPI_COMM_WORLD, &thisRank);
+    MPI_Comm_size(MPI_COMM_WORLD, &rankCount);
 }
 Distributed::~Distributed() {
     if (active) MPI_Finalize();
 }
-int Distributed::rank() {
-    int r = 0;
-    if (active) MPI_Comm_rank(MPI_COMM_WORLD, &r);
-    return r;
-}
-int Distributed::ranks() {
-    int n = 1;
-    if (active) MPI_Comm_size(MPI_COMM_WORLD, &n);
-    return n;
-}
+int Distributed::rank() { return thisRank; }
+int Distributed::ranks() { return rankCount; }
 bool Distributed::enabled() { return true; }
 double Distributed::secondsCommunicating() { return pl::secondsCommunicating; }
 
@@ -192,14 +191,19 @@ std::vector<std::vector<double>> shareBlocksByPixel(std::vector<double> mine, si
     CommunicationTimer timer;
     std::vector<double> send;
     std::vector<int> sendCounts(size_t(n), 0), sendOffsets(size_t(n), 0);
-    for (int q = 0; q < n; ++q) {
-        const std::vector<uint32_t> theirs = pixelsOfRank(pixelCount, q, n);
-        sendOffsets[size_t(q)] = int(send.size());
-        if (me >= blocks) continue;
-        for (uint32_t p : theirs) send.push_back(mine[p]);
-        sendCounts[size_t(q)] = int(theirs.size());
+    if (me < blocks) {
+        send.resize(pixelCount);
+        for (int q = 0; q < n; ++q) {
+            sendCounts[size_t(q)] = int(pixelCountOfRank(pixelCount, q, n));
+            sendOffsets[size_t(q)] = q == 0 ? 0 : sendOffsets[size_t(q - 1)] + sendCounts[size_t(q - 1)];
+        }
+        std::vector<int> filled = sendOffsets;
+        for (uint32_t p = 0; p < pixelCount; ++p) {
+            const int q = rankOfPixel(p, n);
+            send[size_t(filled[size_t(q)]++)] = mine[p];
+        }
     }
-    const int own = int(pixelsOfRank(pixelCount, me, n).size());
+    const int own = int(pixelCountOfRank(pixelCount, me, n));
     std::vector<double> received(size_t(own) * size_t(blocks));
     std::vector<int> receiveCounts(size_t(n), 0), receiveOffsets(size_t(n), 0);
     for (int r = 0; r < blocks; ++r) {
@@ -292,19 +296,21 @@ bool anyRankFailed(bool failed) { return failed; }
 
 #endif
 
-void runOnEveryRank(const std::function<void()>& work) {
-    if (Distributed::ranks() == 1) return work();
+void runOnEveryRank(const std::function<void()>& work, bool acrossRanks) {
+    if (!acrossRanks || Distributed::ranks() == 1) return work();
     std::string failure;
+    std::exception_ptr own;
     try {
         work();
     } catch (const std::exception& e) {
         failure = *e.what() ? e.what() : "failed";
+        own = std::current_exception();
     }
     if (!anyRankFailed(!failure.empty())) return;
     const std::vector<std::string> failures = gatherTextOnRankZero(failure);
-    for (size_t r = 0; r < failures.size(); ++r)
-        if (!failures[r].empty())
-            throw std::runtime_error(r == 0 ? failures[r] : "MPI rank " + std::to_string(r) + ": " + failures[r]);
+    if (own && Distributed::rank() == 0) std::rethrow_exception(own);  // as it was (an interrupt stays one)
+    for (size_t r = 1; r < failures.size(); ++r)
+        if (!failures[r].empty()) throw std::runtime_error("MPI rank " + std::to_string(r) + ": " + failures[r]);
     throw std::runtime_error("another MPI rank failed");  // ranks other than 0 (they stay quiet)
 }
 
@@ -314,6 +320,14 @@ std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks) {
         for (size_t p = chunk * kChunkPixels; p < std::min(pixelCount, (chunk + 1) * kChunkPixels); ++p)
             pixels.push_back(uint32_t(p));
     return pixels;
+}
+
+size_t pixelCountOfRank(size_t pixelCount, int rank, int ranks) {
+    const size_t chunks = (pixelCount + kChunkPixels - 1) / kChunkPixels;
+    if (size_t(rank) >= chunks) return 0;
+    size_t count = ((chunks - 1 - size_t(rank)) / size_t(ranks) + 1) * kChunkPixels;
+    if ((chunks - 1) % size_t(ranks) == size_t(rank)) count -= chunks * kChunkPixels - pixelCount;  // the last, short
+    return count;
 }
 
 int rankOfPixel(uint32_t pixel, int ranks) { return int(size_t(pixel) / kChunkPixels % size_t(ranks)); }

@@ -1,6 +1,7 @@
 // Running one job across processes with MPI (Open MPI; optional at build
 // time: without it there is one process). Each rank loads the scene, renders
-// its share of the sensor's pixels, and rank 0 gathers the films and writes.
+// its part of the sensor's pixels (a dealt share, or chunks claimed by work
+// stealing), and rank 0 gathers the films and writes.
 // Every pixel is rendered whole by one rank with the random streams of a
 // one-process render, so the result has the same bits whatever the number
 // of ranks and threads.
@@ -35,9 +36,12 @@ public:
     static double secondsCommunicating();
 };
 
-// The pixels rank r renders: chunks of 64 pixels dealt round the ranks (the
-// costs of neighbouring pixels are alike; dealt chunks spread them).
+// The pixels of rank r's dealt share: chunks of 64 pixels dealt round the
+// ranks (the costs of neighbouring pixels are alike; dealt chunks spread
+// them). Light paths, progressive rounds and the prediction API use it.
 std::vector<uint32_t> pixelsOfRank(size_t pixelCount, int rank, int ranks);
+// How many pixels rank r's share holds (pixelsOfRank's size).
+size_t pixelCountOfRank(size_t pixelCount, int rank, int ranks);
 // The rank whose share holds pixel p, and where p stands in its list.
 int rankOfPixel(uint32_t pixel, int ranks);
 size_t positionInShare(uint32_t pixel, int ranks);
@@ -95,10 +99,11 @@ void broadcastFromRankZero(Film& film, PathStats& stats);
 bool anyRankFailed(bool failed);
 
 // Runs `work` on every rank; if it throws on any, it throws on every rank
-// (std::runtime_error; on rank 0 with the first failed rank's message,
-// "MPI rank r: ..." for another rank's), so that rank 0 reports one line
-// and no rank goes on to wait for the others. One process: runs it.
-// Collective.
-void runOnEveryRank(const std::function<void()>& work);
+// (rank 0 its own exception, or "MPI rank r: ..." with another rank's
+// message; the others std::runtime_error), so that rank 0 reports one line
+// and no rank goes on alone. `work` must make no collective calls a
+// failure could skip (a throw between lighttrace's waves leaves the other
+// ranks waiting). One process, or acrossRanks false: runs it. Collective.
+void runOnEveryRank(const std::function<void()>& work, bool acrossRanks = true);
 
 }  // namespace pl

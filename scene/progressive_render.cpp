@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <stdexcept>
 
 #include "io/image_io.h"
 #include "runtime/distributed.h"
@@ -43,7 +45,8 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
     ProgressiveRender out{RenderResult{Film(sensor.pixelCount())}, 0, 0, "spp"};
     const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
     const bool decides = !share.acrossRanks || Distributed::rank() == 0;
-    std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
+    std::unique_ptr<Integrator> integrator;
+    runOnEveryRank([&] { integrator = makeIntegrator(scene, sensor, settings); }, share.acrossRanks);
     const bool timed = settings.timeBudget_s > 0, targeted = settings.targetRelativeError > 0;
     // After a round (on the rank that decides): the next round's samples,
     // 0 to stop. Double (an image after each round), or fewer where the
@@ -69,18 +72,34 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
     PathStats ownStats;  // this rank's, over the rounds
     for (uint32_t round = 1; round > 0;) {
         out.result.stats = ownStats;
-        renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result);
+        runOnEveryRank([&] { renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result); },
+                       share.acrossRanks);
         ownStats = out.result.stats;
         out.spp += round;
         out.result.stats = gatherShares(out.result, share);
         out.result.seconds = elapsed();
         uint32_t next = 0;
-        if (decides) {
+        if (!share.acrossRanks) {
             out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
             if (onRound) onRound(out.result, out.spp);
-            next = nextRound();
+            round = nextRound();
+            continue;
         }
-        round = share.acrossRanks ? broadcastFromRankZero(next) : next;
+        // Across ranks a failure of rank 0's (writing the images) must stop
+        // the others, which wait for its decision.
+        constexpr uint32_t kRankZeroFailed = ~0u;
+        std::exception_ptr failure;
+        if (decides) try {
+                out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
+                if (onRound) onRound(out.result, out.spp);
+                next = nextRound();
+            } catch (...) {
+                failure = std::current_exception();
+                next = kRankZeroFailed;
+            }
+        round = broadcastFromRankZero(next);
+        if (failure) std::rethrow_exception(failure);
+        if (round == kRankZeroFailed) throw std::runtime_error("MPI rank 0 failed");
     }
     return out;
 }

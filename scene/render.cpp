@@ -192,8 +192,10 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     const auto start = std::chrono::steady_clock::now();
     PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
     const double communicatedBefore = Distributed::secondsCommunicating();
+    // Across ranks every rank has its integrator before any deals or waits.
+    std::unique_ptr<Integrator> integrator;
+    auto make = [&] { integrator = makeIntegrator(scene, sensor, settings); };
     auto work = [&] {
-        std::unique_ptr<Integrator> integrator = makeIntegrator(scene, sensor, settings);
         // Light paths serve every pixel: their shares are fixed (the
         // blocks' scores go to each pixel's rank); other estimators steal.
         if (share.acrossRanks && !integrator->scoresLightPaths())
@@ -201,10 +203,8 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
         else
             renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
     };
-    if (share.acrossRanks)
-        runOnEveryRank(work);
-    else
-        work();
+    runOnEveryRank(make, share.acrossRanks);
+    runOnEveryRank(work, share.acrossRanks);
     result.stats = gatherShares(result, share);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (share.acrossRanks)

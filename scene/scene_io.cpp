@@ -251,17 +251,21 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const Vec3i& r = frame.resolution;
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
     const uint64_t S = surfaceVoxels;
+    auto peakBytes = [&](bool patch, bool lighttrace) {
+        const uint64_t sensorBytes = (patch ? 340 : 80) * S;
+        const uint64_t renderBytes = sensorBytes + (192 + 70 + (lighttrace ? 136 : 0)) * S + 56 * atlasPixels;
+        const uint64_t glbBytes = sensorBytes + 12 * S + (patch ? 0 : 460 * S);
+        return std::max(renderBytes, glbBytes);
+    };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
-    const uint64_t sensorBytes = (patch ? 340 : 80) * S;
-    const uint64_t lightBytes = desc.render.integrator == "lighttrace" ? 136 * S : 0;
-    const uint64_t renderBytes = sensorBytes + (192 + 70) * S + lightBytes + 56 * atlasPixels;
-    const uint64_t glbBytes = sensorBytes + 12 * S + (patch ? 0 : 460 * S);
+    const bool lighttrace = desc.render.integrator == "lighttrace";
+    const uint64_t bytes = peakBytes(patch, lighttrace);
     std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks do not help (each "
                          "holds the whole sensor)";
-    if (patch) remedy = "the ray footprint needs " + std::to_string((260 * S) >> 20) + " MiB less; " + remedy;
-    if (lightBytes) remedy = "volpath or printpt need " + std::to_string(lightBytes >> 20) + " MiB less; " + remedy;
-    if (auto why = memoryShortfall(std::max(renderBytes, glbBytes), std::to_string(surfaceVoxels) + " surface voxels",
-                                   memoryInUseBytes(), remedy))
+    auto less = [&](uint64_t other) { return std::to_string((bytes - std::min(bytes, other)) >> 20) + " MiB less"; };
+    if (patch) remedy = "the ray footprint with volpath or printpt needs " + less(peakBytes(false, false)) + "; " + remedy;
+    if (lighttrace) remedy = "volpath or printpt need " + less(peakBytes(patch, false)) + "; " + remedy;
+    if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", memoryInUseBytes(), remedy))
         throw InputError(desc.sceneFile.string(), *why);
 }
 }  // namespace
