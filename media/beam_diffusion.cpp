@@ -112,4 +112,61 @@ double BeamDiffusion::multipleScatteringTotalWithoutCorrection() const {
            (cPhi_ * (1.0 - image) / (2.0 * D_mm_ * s) + cE_ * (1.0 + image) / 2.0);
 }
 
+BeamDiffusionTable::BeamDiffusionTable(double g, double ior) {
+    constexpr int kAlbedos = 100, kRadii = 64;
+    for (int i = 0; i < kAlbedos; ++i)
+        albedos_.push_back((1.0 - std::exp(-8.0 * i / (kAlbedos - 1))) / (1.0 - std::exp(-8.0)));
+    radii_.push_back(0.0);
+    radii_.push_back(2.5e-3);
+    while (radii_.size() < kRadii) radii_.push_back(radii_.back() * 1.2);
+    ringValues_.assign(albedos_.size() * radii_.size(), 0.0);
+    totals_.assign(albedos_.size(), 0.0);
+    for (size_t a = 0; a < albedos_.size(); ++a) {
+        if (!(albedos_[a] < 1.0)) albedos_[a] = 1.0 - 1e-6;  // no diffusion without absorption (half-space)
+        const BeamDiffusion d({albedos_[a], g, ior}, 1.0);
+        for (size_t i = 1; i < radii_.size(); ++i) {
+            const double r = radii_[i];
+            ringValues_[a * radii_.size() + i] =
+                2.0 * kPi * r * (d.singleScattering_perMm2(r) + d.multipleScattering_perMm2(r));
+        }
+        // The total over the radii, each step taken as an exponential (the
+        // ring value is finite at 0).
+        ringValues_[a * radii_.size()] = ringValues_[a * radii_.size() + 1];
+        for (size_t i = 1; i < radii_.size(); ++i) {
+            const double v0 = ringValues_[a * radii_.size() + i - 1], v1 = ringValues_[a * radii_.size() + i];
+            const double step = radii_[i] - radii_[i - 1];
+            totals_[a] += v0 > 0 && v1 > 0 && v0 != v1 ? (v1 - v0) * step / std::log(v1 / v0) : 0.5 * (v0 + v1) * step;
+        }
+    }
+}
+
+std::pair<size_t, double> BeamDiffusionTable::bracket(const std::vector<double>& knots, double x) {
+    if (!(x > knots.front())) return {0, 0.0};
+    if (!(x < knots.back())) return {knots.size() - 2, 1.0};
+    const size_t above = size_t(std::upper_bound(knots.begin(), knots.end(), x) - knots.begin());
+    return {above - 1, (x - knots[above - 1]) / (knots[above] - knots[above - 1])};
+}
+
+double BeamDiffusionTable::profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const {
+    const double r = r_mm * sigmaT_perMm;  // optical units
+    if (!(r < radii_.back()) || !(r > 0.0)) return 0.0;
+    const auto [a, wa] = bracket(albedos_, albedo);
+    const auto [i, wr] = bracket(radii_, r);
+    // Along r as an exponential (single scattering falls by e^-2 per mean
+    // free path: linear steps of 1.2x would read it 20 % high), across
+    // albedos linearly.
+    auto alongRadius = [&](size_t ai) {
+        const double v0 = ringValues_[ai * radii_.size() + i], v1 = ringValues_[ai * radii_.size() + i + 1];
+        return v0 > 0 && v1 > 0 ? v0 * std::pow(v1 / v0, wr) : (1 - wr) * v0 + wr * v1;
+    };
+    const double ring = (1 - wa) * alongRadius(a) + wa * alongRadius(a + 1);
+    // Back from the ring value in optical units to mm^-2.
+    return sigmaT_perMm * sigmaT_perMm * ring / (2.0 * kPi * r);
+}
+
+double BeamDiffusionTable::total(double albedo) const {
+    const auto [a, wa] = bracket(albedos_, albedo);
+    return (1 - wa) * totals_[a] + wa * totals_[a + 1];
+}
+
 }  // namespace pl

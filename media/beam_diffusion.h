@@ -10,6 +10,10 @@
 // is measured in tests/test_beam_diffusion.cpp.
 #pragma once
 
+#include <cstddef>
+#include <utility>
+#include <vector>
+
 #include "media/slab_transport.h"
 
 namespace pl {
@@ -50,6 +54,28 @@ private:
     double sigmaT_perMm_, sigmaTReduced_perMm_, albedoReduced_;
     double D_mm_, sigmaTr_perMm_, zb_mm_;
     double cPhi_, cE_;
+};
+
+// The profile tabulated in optical units (sigma_t = 1) over albedos and
+// radii, as pbrt-v3 does, for fast lookups: 2 pi r (R_ss + R_ms) at 100
+// albedos (denser near 1) and 64 radii (0, then from 2.5e-3 mean free
+// paths in steps of 1.2x), interpolated bilinearly; one table per (g, ior).
+class BeamDiffusionTable {
+public:
+    BeamDiffusionTable(double g, double ior);
+    // Single + multiple scattering at r_mm in a medium of that albedo and
+    // extinction, per mm^2 (0 beyond the table's last radius).
+    double profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const;
+    // The profile over the plane (the light a unit beam brings out).
+    double total(double albedo) const;
+
+private:
+    // Where x falls in the ascending `knots`: the index below and the
+    // weight of the one above.
+    static std::pair<std::size_t, double> bracket(const std::vector<double>& knots, double x);
+    std::vector<double> albedos_, radii_;
+    std::vector<double> ringValues_;  // 2 pi r R(r) per (albedo, radius), optical units
+    std::vector<double> totals_;      // per albedo
 };
 
 }  // namespace pl

@@ -64,6 +64,27 @@ TEST(BeamDiffusion, TotalsDoNotDependOnTheScale) {
     EXPECT_NEAR(a.multipleScattering_perMm2(0.3), b.multipleScattering_perMm2(0.3 / 25.0) / (25.0 * 25.0), 1e-12);
 }
 
+// The table (what the predictor looks up) against the profile it tabulates.
+TEST(BeamDiffusion, TheTableReproducesTheProfileAndItsTotal) {
+    const BeamDiffusionTable table(0.4, 1.5);
+    for (double albedo : {0.25, 0.9, 0.97, 0.995}) {
+        const BeamDiffusion d({albedo, 0.4, 1.5}, 6.0);  // white's red extinction, per mm
+        const double direct = overThePlane(
+            [&](double r) { return d.singleScattering_perMm2(r) + d.multipleScattering_perMm2(r); }, d.diffusionLength_mm());
+        EXPECT_NEAR(table.total(albedo) / direct, 1.0, 0.015) << albedo;
+        // What a predictor summing the profile over the surface would get
+        // wrong: the lookups' absolute error over the plane.
+        const double lookupError = overThePlane(
+            [&](double r) {
+                return std::abs(table.profile_perMm2(albedo, 6.0, r) - d.singleScattering_perMm2(r) -
+                                d.multipleScattering_perMm2(r));
+            },
+            d.diffusionLength_mm());
+        EXPECT_LT(lookupError, 0.02 * direct) << albedo;
+    }
+    EXPECT_EQ(table.profile_perMm2(0.9, 6.0, 1e3), 0.0);  // beyond the table
+}
+
 // The approximation's bias: the light a normal beam brings out of the
 // half-space, diffusion (single + multiple scattering, with the
 // near-surface correction) against the exact solution. Diffusion is an
