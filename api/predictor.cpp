@@ -145,7 +145,7 @@ SurfacePrediction Predictor::predict() {
     // This rank's share (all pixels in one process); across ranks the
     // film is made whole on every rank after each round (pooled on rank 0).
     const PixelShare mine = acrossRanks_ ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
-    PathStats ownStats;
+    PathStats allStats;  // over the ranks (r's are this rank's)
     auto renderRound = [&](const std::vector<uint32_t>* subset, uint32_t first, uint32_t count) {
         PixelShare share = mine;
         if (subset && !mine.acrossRanks) share.pixels = *subset;
@@ -154,11 +154,9 @@ SurfacePrediction Predictor::predict() {
             for (uint32_t p : *subset)
                 if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
         }
-        r.stats = ownStats;
         renderSamples(*integrator, state_->scene, sensor, rs, share, first, count, r);
-        ownStats = r.stats;
-        r.stats = gatherShares(r, share);
-        if (mine.acrossRanks) broadcastFromRankZero(r.film, r.stats);
+        allStats = gatherShares(r, share);
+        if (mine.acrossRanks) broadcastFromRankZero(r.film, allStats);
     };
     if (!adaptive_.enabled) {
         renderRound(nullptr, 0, rs.spp);
@@ -194,7 +192,7 @@ SurfacePrediction Predictor::predict() {
         p.standardError[i] = r.film.standardErrorRGB(i);
         p.samples[i] = r.film.samples(i, rs.channels.front());
     }
-    p.stats = r.stats;
+    p.stats = allStats;
     p.renderSeconds = r.seconds;
     p.updateSeconds = pendingUpdateSeconds_;
     pendingUpdateSeconds_ = 0;

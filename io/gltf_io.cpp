@@ -295,6 +295,22 @@ void appendBytes(std::vector<unsigned char>& buf, const T* data, size_t count) {
 
 namespace {
 
+// glTF's unit is the metre; printlight's the millimetre.
+Point3f metresOf(const Point3f& p_mm) {
+    return Point3f(float(double(p_mm.x) / 1000.0), float(double(p_mm.y) / 1000.0), float(double(p_mm.z) / 1000.0));
+}
+
+// The document of one mesh of one primitive, in one node of one scene.
+nlohmann::json oneMeshDocument(nlohmann::json bufferViews, nlohmann::json accessors, nlohmann::json primitive) {
+    return {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
+            {"scene", 0},
+            {"scenes", {{{"nodes", {0}}}}},
+            {"nodes", {{{"mesh", 0}}}},
+            {"bufferViews", std::move(bufferViews)},
+            {"accessors", std::move(accessors)},
+            {"meshes", {{{"primitives", {std::move(primitive)}}}}}};
+}
+
 // A glTF document of one mesh (positions in metres, as glTF says, from
 // millimetres; UVs and linear vertex colours, as floats, where the
 // appearance has them; no index buffer where the mesh has no indices) and
@@ -322,7 +338,7 @@ GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& loo
     positions_m.reserve(n);
     Bounds3f b;
     for (const Point3f& p : mesh.positions_mm) {
-        positions_m.emplace_back(float(double(p.x) / 1000.0), float(double(p.y) / 1000.0), float(double(p.z) / 1000.0));
+        positions_m.push_back(metresOf(p));
         b.expand(positions_m.back());
     }
     attributes["POSITION"] = addView(positions_m.data(), n * 12, n, 5126, "VEC3", 34962);
@@ -334,13 +350,7 @@ GltfDocument meshDocument(const TriangleMesh& mesh, const SurfaceAppearance& loo
     json primitive = {{"attributes", attributes}, {"mode", 4}};
     if (!mesh.indices.empty())
         primitive["indices"] = addView(mesh.indices.data(), mesh.indices.size() * 4, mesh.indices.size(), 5125, "SCALAR", 34963);
-    doc.gltf = {{"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
-                {"scene", 0},
-                {"scenes", {{{"nodes", {0}}}}},
-                {"nodes", {{{"mesh", 0}}}},
-                {"bufferViews", views},
-                {"accessors", accessors},
-                {"meshes", {{{"primitives", {primitive}}}}}};
+    doc.gltf = oneMeshDocument(views, accessors, primitive);
     return doc;
 }
 
@@ -376,12 +386,9 @@ void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& l
     // pieces): only the bounds are gathered first.
     size_t pieces = 0;
     Bounds3f bounds_m;
-    auto metres = [](const Point3f& p) {
-        return Point3f(float(double(p.x) / 1000.0), float(double(p.y) / 1000.0), float(double(p.z) / 1000.0));
-    };
     for (size_t pixel = 0; pixel < linearColor.size(); ++pixel)
         for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p, ++pieces)
-            for (const Point3f& v : {p->a, p->b, p->c}) bounds_m.expand(metres(v));
+            for (const Point3f& v : {p->a, p->b, p->c}) bounds_m.expand(metresOf(v));
     // A .glb's lengths are 32-bit.
     const uint64_t vertices = 3 * uint64_t(pieces), positionBytes = vertices * 12, colorBytes = vertices * 8;
     constexpr uint64_t kMostGlbBytes = 0xFFFFFFFFull - (1u << 20);  // less room for the JSON
@@ -389,26 +396,19 @@ void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& l
         throw GlbTooLarge("the prediction on the model (" + std::to_string(pieces) + " patch pieces, " +
                           std::to_string((positionBytes + colorBytes) >> 30) + " GiB) exceeds a .glb's 4 GiB: " +
                           file.string() + " is not written (the .exr and .vdb hold the prediction)");
-    json gltf = {
-        {"asset", {{"version", "2.0"}, {"generator", "printlight"}}},
-        {"scene", 0},
-        {"scenes", {{{"nodes", {0}}}}},
-        {"nodes", {{{"mesh", 0}}}},
-        {"bufferViews",
-         {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positionBytes}, {"target", 34962}},
-          {{"buffer", 0}, {"byteOffset", positionBytes}, {"byteLength", colorBytes}, {"target", 34962}}}},
-        {"accessors",
-         {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
-           {"min", {bounds_m.lo.x, bounds_m.lo.y, bounds_m.lo.z}}, {"max", {bounds_m.hi.x, bounds_m.hi.y, bounds_m.hi.z}}},
-          {{"bufferView", 1}, {"componentType", 5123}, {"count", vertices}, {"type", "VEC4"}, {"normalized", true}}}},
-        // Unlit: the colours are the radiance leaving the surface already; a
-        // viewer's own lights must not shade them again.
-        {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}, {"mode", 4}, {"material", 0}}}}}}},
-        {"extensionsUsed", {"KHR_materials_unlit"}},
-        {"materials",
-         {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
-           {"extensions", {{"KHR_materials_unlit", json::object()}}}}}},
-        {"buffers", {{{"byteLength", positionBytes + colorBytes}}}}};
+    json gltf = oneMeshDocument(
+        {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positionBytes}, {"target", 34962}},
+         {{"buffer", 0}, {"byteOffset", positionBytes}, {"byteLength", colorBytes}, {"target", 34962}}},
+        {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
+          {"min", {bounds_m.lo.x, bounds_m.lo.y, bounds_m.lo.z}}, {"max", {bounds_m.hi.x, bounds_m.hi.y, bounds_m.hi.z}}},
+         {{"bufferView", 1}, {"componentType", 5123}, {"count", vertices}, {"type", "VEC4"}, {"normalized", true}}},
+        {{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}, {"mode", 4}, {"material", 0}});
+    // Unlit: the colours are the radiance leaving the surface already; a
+    // viewer's own lights must not shade them again.
+    gltf["extensionsUsed"] = {"KHR_materials_unlit"};
+    gltf["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+                          {"extensions", {{"KHR_materials_unlit", json::object()}}}}};
+    gltf["buffers"] = {{{"byteLength", positionBytes + colorBytes}}};
     // The binary container: header, JSON chunk (space-padded), BIN chunk.
     std::string text = gltf.dump();
     while (text.size() % 4) text.push_back(' ');
@@ -433,7 +433,7 @@ void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& l
         for (size_t pixel = 0; pixel < linearColor.size(); ++pixel, flushIfFull(1 << 20))
             for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
                 for (const Point3f& v : {p->a, p->b, p->c}) {
-                    const Point3f m = metres(v);
+                    const Point3f m = metresOf(v);
                     bytes.append(reinterpret_cast<const char*>(&m.x), 4);
                     bytes.append(reinterpret_cast<const char*>(&m.y), 4);
                     bytes.append(reinterpret_cast<const char*>(&m.z), 4);

@@ -69,38 +69,32 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
         if (timed) next = std::min(next, std::floor((settings.timeBudget_s - out.result.seconds) / perSample));
         return uint32_t(std::clamp(next, 1.0, double(settings.spp - out.spp)));
     };
-    PathStats ownStats;  // this rank's, over the rounds
+    // Across ranks a failure of rank 0's (writing the images) must stop
+    // the others, which wait for its decision.
+    constexpr uint32_t kRankZeroFailed = ~0u;
+    PathStats allStats;  // over the ranks, on the rank that decides (out.result's are this rank's)
     for (uint32_t round = 1; round > 0;) {
-        out.result.stats = ownStats;
         runOnEveryRank([&] { renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result); },
                        share.acrossRanks);
-        ownStats = out.result.stats;
         out.spp += round;
-        out.result.stats = gatherShares(out.result, share);
+        allStats = gatherShares(out.result, share);
         out.result.seconds = elapsed();
         uint32_t next = 0;
-        if (!share.acrossRanks) {
-            out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
-            if (onRound) onRound(out.result, out.spp);
-            round = nextRound();
-            continue;
-        }
-        // Across ranks a failure of rank 0's (writing the images) must stop
-        // the others, which wait for its decision.
-        constexpr uint32_t kRankZeroFailed = ~0u;
         std::exception_ptr failure;
         if (decides) try {
                 out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
                 if (onRound) onRound(out.result, out.spp);
                 next = nextRound();
             } catch (...) {
+                if (!share.acrossRanks) throw;
                 failure = std::current_exception();
                 next = kRankZeroFailed;
             }
-        round = broadcastFromRankZero(next);
+        round = share.acrossRanks ? broadcastFromRankZero(next) : next;
         if (failure) std::rethrow_exception(failure);
         if (round == kRankZeroFailed) throw std::runtime_error("MPI rank 0 failed");
     }
+    out.result.stats = allStats;
     return out;
 }
 

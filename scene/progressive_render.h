@@ -32,7 +32,8 @@ struct ProgressiveRender {
     std::string stoppedBy;             // "spp", "time" or "target error"
 };
 
-// onRound(result, spp) after each round. acrossRanks: every MPI rank
+// onRound(result, spp) after each round (across ranks its statistics
+// are rank 0's own until the end; the film is whole). acrossRanks: every MPI rank
 // renders its share of the pixels; rank 0 gathers them after each round,
 // calls onRound and decides the next round for all (the other ranks
 // return their share, without calling onRound).

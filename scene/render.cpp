@@ -190,7 +190,7 @@ std::vector<uint32_t> renderClaimedChunks(const Integrator& integrator, const Sc
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
     RenderResult result{Film(sensor.pixelCount())};
     const auto start = std::chrono::steady_clock::now();
-    PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
+    PixelShare share{{}, acrossRanks && Distributed::ranks() > 1};  // its pixels: below
     const double communicatedBefore = Distributed::secondsCommunicating();
     // Across ranks every rank has its integrator before any deals or waits.
     std::unique_ptr<Integrator> integrator;
@@ -198,10 +198,12 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     auto work = [&] {
         // Light paths serve every pixel: their shares are fixed (the
         // blocks' scores go to each pixel's rank); other estimators steal.
-        if (share.acrossRanks && !integrator->scoresLightPaths())
+        if (share.acrossRanks && !integrator->scoresLightPaths()) {
             share.pixels = renderClaimedChunks(*integrator, scene, sensor, settings, result);
-        else
-            renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
+            return;
+        }
+        if (share.acrossRanks) share = PixelShare::ofThisRank(sensor.pixelCount());
+        renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
     };
     runOnEveryRank(make, share.acrossRanks);
     runOnEveryRank(work, share.acrossRanks);
