@@ -37,6 +37,7 @@
 #include "runtime/progress.h"
 #include "integrators/half_space_walk.h"
 #include "scene/registry.h"
+#include "compare/surface_colour_error.h"
 #include "io/image_io.h"
 #include "io/input_error.h"
 #include "io/output_file.h"
@@ -95,6 +96,10 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         light.lighttrace.particlesPerPixel = particles;
         c["lighttrace-p" + std::to_string(int(particles))] = light;
     }
+    // The fast approximate predictor (deterministic: one sample says all).
+    RenderSettings diffusion = v;
+    diffusion.integrator = "diffusion";
+    c["diffusion"] = diffusion;
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
     for (const char* integrator : {"volpath", "printpt"}) {
         RenderSettings q = c[integrator];
@@ -151,6 +156,14 @@ struct Row {
     RGB passSeconds;  // per channel (separate passes; zero for one pass)
     double medianRelativeError = 0, secondsToTarget = 0;  // whole-object quality (timeToTarget)
     double eventsPerSecondPerCore = 0;  // scattering events over wall time and threads
+    // Against a reference on the surface-voxel sensor: CIEDE2000 of the
+    // reflectance (compare/surface_colour_error.h); none otherwise.
+    std::optional<SurfaceColourError> colour;
+    RGB reflectanceBias{0, 0, 0};  // mean of (render - reference) reflectance over the surface voxels
+    // The share of voxel channels whose difference from the reference is
+    // within twice the two standard errors combined (reported errors that
+    // cover every source of error put about 95 % there).
+    double withinTwoErrors = 0;
 };
 
 // Where a channel's own pass shows where the time and the error go: each
@@ -246,6 +259,78 @@ Errors compare(const Film& film, const Sensor& sensor, const RadianceImage& ref)
     e.rmseAll = std::sqrt((se[0] + se[1] + se[2]) / (3.0 * n));
     e.relMse = rel / (3.0 * n);
     return e;
+}
+
+// The reflectance (radiance over the surroundings' radiance) of every
+// surface voxel the atlas shows, from the film and from the reference,
+// with the voxels' surface points.
+struct SurfaceReflectances {
+    std::vector<Point3f> points_mm;
+    std::vector<RGB> film, reference;
+    std::vector<int64_t> imageIndex;
+    double withinTwoErrors = 0;
+};
+SurfaceReflectances surfaceReflectances(const Film& film, const SurfaceVoxelSensor& sensor, const RadianceImage& ref,
+                                        const RGB& environment) {
+    SurfaceReflectances s;
+    for (size_t p = 0; p < film.pixelCount(); ++p) {
+        const int64_t i = sensor.pixelImageIndex(p);
+        if (i < 0) continue;
+        s.points_mm.push_back(sensor.pixels()[p].surfacePoint_mm);
+        RGB f, r;
+        for (int c = 0; c < 3; ++c) {
+            f[c] = film.mean(p, c) / environment[c];
+            r[c] = ref.mean[size_t(i)][c] / environment[c];
+        }
+        s.film.push_back(f);
+        s.reference.push_back(r);
+        s.imageIndex.push_back(i);
+        for (int c = 0; c < 3; ++c) {
+            const double e = std::hypot(double(film.standardError(p, c)), double(ref.standardError[size_t(i)][c]));
+            if (std::abs(double(film.mean(p, c)) - ref.mean[size_t(i)][c]) <= 2.0 * e) s.withinTwoErrors += 1;
+        }
+    }
+    if (!s.film.empty()) s.withinTwoErrors /= 3.0 * double(s.film.size());
+    return s;
+}
+
+// The per-voxel CIEDE2000 on the atlas: black 0, green 2, yellow 5, red 10 and more.
+RadianceImage deltaEImage(const std::vector<float>& deltaE, const std::vector<int64_t>& imageIndex, int width,
+                          int height) {
+    RadianceImage im;
+    im.width = width;
+    im.height = height;
+    im.mean.assign(size_t(width) * height, RGB{0, 0, 0});
+    im.standardError.assign(im.mean.size(), RGB{0, 0, 0});
+    im.coverage.assign(im.mean.size(), 0.0f);
+    for (size_t k = 0; k < deltaE.size(); ++k) {
+        const float d = deltaE[k];
+        RGB c = d < 2 ? RGB{0, d / 2, 0} : d < 5 ? RGB{(d - 2) / 3, 1, 0} : RGB{1, std::max(0.0f, 1 - (d - 5) / 5), 0};
+        im.mean[size_t(imageIndex[k])] = c;
+        im.coverage[size_t(imageIndex[k])] = 1;
+    }
+    return im;
+}
+
+std::string colourTable(const std::vector<Row>& rows) {
+    if (std::none_of(rows.begin(), rows.end(), [](const Row& r) { return r.colour.has_value(); })) return "";
+    std::ostringstream md;
+    char sigma[32];
+    std::snprintf(sigma, sizeof sigma, "%g", kEyeFootprint_mm);
+    md << "\nColour against the reference (reflectance, CIEDE2000 per surface voxel; filtered: both averaged over a "
+       << sigma << " mm Gaussian on the surface, the eye's footprint):\n\n"
+       << "| config | budget (s) | time (s) | mean | 95th pct | mean filtered | 95th pct filtered | reflectance bias R | G | B | within 2 errors |\n"
+       << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Row& r : rows) {
+        if (!r.colour) continue;
+        char line[256];
+        std::snprintf(line, sizeof line, "| %s | %.3g | %.3f | %.2f | %.2f | %.2f | %.2f | %+.4f | %+.4f | %+.4f | %.1f %% |\n",
+                      r.config.c_str(), r.budget, r.seconds, r.colour->mean, r.colour->p95, r.colour->meanFiltered,
+                      r.colour->p95Filtered, r.reflectanceBias[0], r.reflectanceBias[1], r.reflectanceBias[2],
+                      100.0 * r.withinTwoErrors);
+        md << line;
+    }
+    return md.str();
 }
 
 // Log-log plot of RMSE against time, one polyline per configuration.
@@ -444,11 +529,27 @@ int benchCommand(const std::vector<std::string>& argv) {
             auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
             Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, *sensor, ref);
             const double medianRel = medianRelativeError(r.film, *sensor, self ? nullptr : &ref);
+            std::optional<SurfaceColourError> colour;
+            RGB bias{0, 0, 0};
+            double withinTwoErrors = 0;
+            const auto* surface = dynamic_cast<const SurfaceVoxelSensor*>(sensor.get());
+            if (!self && surface) {
+                const SurfaceReflectances s = surfaceReflectances(r.film, *surface, ref, scene.environment);
+                colour = surfaceColourError(s.points_mm, s.film, s.reference);
+                withinTwoErrors = s.withinTwoErrors;
+                for (size_t k = 0; k < s.film.size(); ++k)
+                    for (int c = 0; c < 3; ++c) bias[c] += (s.film[k][c] - s.reference[k][c]) / float(s.film.size());
+                // The last budget's per-voxel error, where it fails.
+                if (budget == budgets.back())
+                    writePng(deltaEImage(colour->perVoxel, s.imageIndex, ref.width, ref.height),
+                             args.value("--out").value_or("bench") + "_" + name + "_deltaE.png");
+                colour->perVoxel.clear();
+            }
             if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
                             timeToTarget(r.seconds, medianRel, target),
-                            double(r.stats.scatterEvents) / (r.seconds * cores)});
+                            double(r.stats.scatterEvents) / (r.seconds * cores), colour, bias, withinTwoErrors});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);
         }
@@ -520,6 +621,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         csv << c << "\n";
     }
     md << perChannelTable(rows, baseline, baselineRows);
+    md << colourTable(rows);
     std::string prefix = args.value("--out").value_or("bench");
     writeTextFile(prefix + ".md", md.str());
     writeTextFile(prefix + ".csv", csv.str());

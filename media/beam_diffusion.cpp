@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace pl {
 
@@ -22,8 +23,13 @@ double hgPhase(double cosTheta, double g) {
 template <class F>
 double integrateAboveKink(double a, F f) {
     constexpr int n = 64;
-    double nodes[n], weights[n];
-    gaussLegendre(n, nodes, weights);
+    struct Rule {
+        double nodes[n], weights[n];
+        Rule() { gaussLegendre(n, nodes, weights); }
+    };
+    static const Rule rule;
+    const double* nodes = rule.nodes;
+    const double* weights = rule.weights;
     double sum = 0;
     for (int i = 0; i < n; ++i) {
         const double t = 0.5 * (nodes[i] + 1.0);
@@ -112,61 +118,166 @@ double BeamDiffusion::multipleScatteringTotalWithoutCorrection() const {
            (cPhi_ * (1.0 - image) / (2.0 * D_mm_ * s) + cE_ * (1.0 + image) / 2.0);
 }
 
-BeamDiffusionTable::BeamDiffusionTable(double g, double ior) {
-    constexpr int kAlbedos = 100, kRadii = 64;
-    for (int i = 0; i < kAlbedos; ++i)
-        albedos_.push_back((1.0 - std::exp(-8.0 * i / (kAlbedos - 1))) / (1.0 - std::exp(-8.0)));
+namespace {
+constexpr int kTableAlbedos = 100, kTableRadii = 64;
+constexpr double kFirstRadius = 2.5e-3, kRadiusStep = 1.2;
+// Albedo knot i is (1 - e^{-8 i / 99}) / (1 - e^{-8}).
+constexpr double kAlbedoSpread = 8.0;
+}  // namespace
+
+BeamDiffusionTable::BeamDiffusionTable(double g, double ior, Parts parts) : g_(g) {
+    for (int i = 0; i < kTableAlbedos; ++i)
+        albedos_.push_back((1.0 - std::exp(-kAlbedoSpread * i / (kTableAlbedos - 1))) / (1.0 - std::exp(-kAlbedoSpread)));
     radii_.push_back(0.0);
-    radii_.push_back(2.5e-3);
-    while (radii_.size() < kRadii) radii_.push_back(radii_.back() * 1.2);
+    radii_.push_back(kFirstRadius);
+    while (radii_.size() < kTableRadii) radii_.push_back(radii_.back() * kRadiusStep);
     ringValues_.assign(albedos_.size() * radii_.size(), 0.0);
     totals_.assign(albedos_.size(), 0.0);
     for (size_t a = 0; a < albedos_.size(); ++a) {
-        if (!(albedos_[a] < 1.0)) albedos_[a] = 1.0 - 1e-6;  // no diffusion without absorption (half-space)
-        const BeamDiffusion d({albedos_[a], g, ior}, 1.0);
+        // No diffusion without absorption (half-space): the last knot is just below 1.
+        const SlabMedium medium{std::min(albedos_[a], 1.0 - 1e-6), g, ior};
+        const BeamDiffusion d(medium, 1.0);
         for (size_t i = 1; i < radii_.size(); ++i) {
             const double r = radii_[i];
-            ringValues_[a * radii_.size() + i] =
-                2.0 * kPi * r * (d.singleScattering_perMm2(r) + d.multipleScattering_perMm2(r));
+            const double single = parts == Parts::SingleAndMultiple ? d.singleScattering_perMm2(r) : 0.0;
+            ringValues_[a * radii_.size() + i] = 2.0 * kPi * r * (single + d.multipleScattering_perMm2(r));
+        }
+        if (parts == Parts::MultipleMatchedToHalfSpace && albedos_[a] > 0) {
+            double multiple = 0;
+            for (size_t i = 2; i < radii_.size(); ++i)
+                multiple += 0.5 * (ringValues_[a * radii_.size() + i - 1] + ringValues_[a * radii_.size() + i]) *
+                            (radii_[i] - radii_[i - 1]);
+            const double wanted = slabEscape(medium).top - d.singleScatteringTotal();
+            if (multiple > 0 && wanted > 0)
+                for (size_t i = 1; i < radii_.size(); ++i) ringValues_[a * radii_.size() + i] *= wanted / multiple;
         }
         // The total over the radii, each step taken as an exponential (the
         // ring value is finite at 0).
         ringValues_[a * radii_.size()] = ringValues_[a * radii_.size() + 1];
+        withinRadius_.push_back(0.0);
         for (size_t i = 1; i < radii_.size(); ++i) {
             const double v0 = ringValues_[a * radii_.size() + i - 1], v1 = ringValues_[a * radii_.size() + i];
             const double step = radii_[i] - radii_[i - 1];
             totals_[a] += v0 > 0 && v1 > 0 && v0 != v1 ? (v1 - v0) * step / std::log(v1 / v0) : 0.5 * (v0 + v1) * step;
+            withinRadius_.push_back(totals_[a]);
         }
     }
+    for (double v : ringValues_) logRingValues_.push_back(v > 0 ? float(std::log(v)) : -HUGE_VALF);
+    // The Laplacian in the plane of a radial f is f'' + f' / r = (1 / r^2)
+    // d^2 f / du^2 with u = ln r: second differences over the knots, which
+    // are regular in u (0 at the first and last).
+    laplacians_.assign(ringValues_.size(), 0.0);
+    const double du = std::log(kRadiusStep);
+    for (size_t a = 0; a < albedos_.size(); ++a)
+        for (size_t i = 2; i + 1 < radii_.size(); ++i) {
+            auto f = [&](size_t k) { return ringValues_[a * radii_.size() + k] / (2.0 * kPi * radii_[k]); };
+            laplacians_[a * radii_.size() + i] = (f(i + 1) - 2.0 * f(i) + f(i - 1)) / (du * du * radii_[i] * radii_[i]);
+        }
 }
 
-std::pair<size_t, double> BeamDiffusionTable::bracket(const std::vector<double>& knots, double x) {
-    if (!(x > knots.front())) return {0, 0.0};
-    if (!(x < knots.back())) return {knots.size() - 2, 1.0};
-    const size_t above = size_t(std::upper_bound(knots.begin(), knots.end(), x) - knots.begin());
-    return {above - 1, (x - knots[above - 1]) / (knots[above] - knots[above - 1])};
+std::pair<int, float> BeamDiffusionTable::albedoKnot(double albedo) const {
+    // Single precision: the lookups are the predictor's inner loop.
+    static const float kAlbedoScale = float(1.0 - std::exp(-kAlbedoSpread));
+    if (!(albedo > 0.0)) return {0, 0.0f};
+    const float x = -float(kTableAlbedos - 1) / float(kAlbedoSpread) * std::log(1.0f - float(albedo) * kAlbedoScale);
+    if (!(x < kTableAlbedos - 1)) return {kTableAlbedos - 2, 1.0f};
+    const int i = int(x);
+    return {i, x - float(i)};
+}
+
+std::pair<int, float> BeamDiffusionTable::radiusKnot(double r) const {
+    static const float kInverseLogStep = float(1.0 / std::log(kRadiusStep));
+    if (r < kFirstRadius) return {0, float(r / kFirstRadius)};
+    const float x = 1.0f + std::log(float(r / kFirstRadius)) * kInverseLogStep;
+    const int i = std::min(int(x), kTableRadii - 2);
+    return {i, x - float(i)};
 }
 
 double BeamDiffusionTable::profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const {
     const double r = r_mm * sigmaT_perMm;  // optical units
     if (!(r < radii_.back()) || !(r > 0.0)) return 0.0;
-    const auto [a, wa] = bracket(albedos_, albedo);
-    const auto [i, wr] = bracket(radii_, r);
+    const auto [a, wa] = albedoKnot(albedo);
+    const auto [i, wr] = radiusKnot(r);
     // Along r as an exponential (single scattering falls by e^-2 per mean
     // free path: linear steps of 1.2x would read it 20 % high), across
     // albedos linearly.
-    auto alongRadius = [&](size_t ai) {
-        const double v0 = ringValues_[ai * radii_.size() + i], v1 = ringValues_[ai * radii_.size() + i + 1];
-        return v0 > 0 && v1 > 0 ? v0 * std::pow(v1 / v0, wr) : (1 - wr) * v0 + wr * v1;
+    auto alongRadius = [&, i = i, wr = wr](int ai) {
+        const size_t k = size_t(ai) * kTableRadii + size_t(i);
+        const float l0 = logRingValues_[k], l1 = logRingValues_[k + 1];
+        if (l0 > -HUGE_VALF && l1 > -HUGE_VALF) return double(std::exp(l0 + wr * (l1 - l0)));
+        return (1 - wr) * ringValues_[k] + wr * ringValues_[k + 1];
     };
     const double ring = (1 - wa) * alongRadius(a) + wa * alongRadius(a + 1);
     // Back from the ring value in optical units to mm^-2.
     return sigmaT_perMm * sigmaT_perMm * ring / (2.0 * kPi * r);
 }
 
+double BeamDiffusionTable::spreadProfile_perMm2(double albedo, double sigmaT_perMm, double r_mm,
+                                                double spread_mm2) const {
+    const double r = r_mm * sigmaT_perMm;  // optical units
+    if (!(r < radii_.back()) || !(r > 0.0)) return 0.0;
+    const auto [a, wa] = albedoKnot(albedo);
+    const auto [i, wr] = radiusKnot(r);
+    double value = 0, laplacian = 0;
+    for (int ai = a; ai <= a + 1; ++ai) {
+        const double w = ai == a ? 1.0 - wa : wa;
+        const size_t k = size_t(ai) * kTableRadii + size_t(i);
+        const float l0 = logRingValues_[k], l1 = logRingValues_[k + 1];
+        value += w * (l0 > -HUGE_VALF && l1 > -HUGE_VALF ? double(std::exp(l0 + wr * (l1 - l0)))
+                                                         : (1 - wr) * ringValues_[k] + wr * ringValues_[k + 1]);
+        laplacian += w * ((1 - wr) * laplacians_[k] + wr * laplacians_[k + 1]);
+    }
+    // Back to mm: R_mm(r) = sigma^2 R(sigma r), its Laplacian takes sigma^4.
+    const double s2 = sigmaT_perMm * sigmaT_perMm;
+    value *= s2 / (2.0 * kPi * r);
+    laplacian *= s2 * s2;
+    // Second order only: bounded where the spread is not small against r.
+    return std::clamp(value + 0.25 * spread_mm2 * laplacian, 0.5 * value, 2.0 * value);
+}
+
+double BeamDiffusionTable::withinRadius(double albedo, double sigmaT_perMm, double r_mm) const {
+    const double r = r_mm * sigmaT_perMm;
+    if (!(r > 0.0)) return 0.0;
+    if (!(r < radii_.back())) return total(albedo);
+    const auto [a, wa] = albedoKnot(albedo);
+    const auto [i, wr] = radiusKnot(r);
+    auto alongRadius = [&, i = i, wr = wr](int ai) {
+        const size_t k = size_t(ai) * kTableRadii + size_t(i);
+        return (1 - wr) * withinRadius_[k] + wr * withinRadius_[k + 1];
+    };
+    return (1 - wa) * alongRadius(a) + wa * alongRadius(a + 1);
+}
+
 double BeamDiffusionTable::total(double albedo) const {
-    const auto [a, wa] = bracket(albedos_, albedo);
-    return (1 - wa) * totals_[a] + wa * totals_[a + 1];
+    const auto [a, wa] = albedoKnot(albedo);
+    return (1 - wa) * totals_[size_t(a)] + wa * totals_[size_t(a) + 1];
+}
+
+namespace {
+constexpr int kDepthSteps = 3000;  // over [0, kMaxDepth]: steps of 0.01
+}
+
+SingleScatteringDepthTable::SingleScatteringDepthTable(double g, double ior) {
+    // cumulative(tau) = 2 pi int p(-mu) (1 - F(mu)) mu / (1 + mu) (1 - e^{-tau (1 + mu) / mu}) dmu
+    // over the cosines that leave: the depth integral of e^{-tau} (in)
+    // e^{-tau / mu} (out) in closed form.
+    const double muC = criticalCosine(ior);
+    for (int k = 0; k <= kDepthSteps; ++k) {
+        const double tau = kMaxDepth * k / kDepthSteps;
+        values_.push_back(2.0 * kPi * integrateAboveKink(muC, [&](double mu) {
+                              return hgPhase(-mu, g) * (1.0 - fresnelFromInside(mu, ior)) * mu / (1.0 + mu) *
+                                     (1.0 - std::exp(-tau * (1.0 + mu) / mu));
+                          }));
+    }
+}
+
+double SingleScatteringDepthTable::cumulative(double tau) const {
+    const double x = tau / kMaxDepth * kDepthSteps;
+    if (!(x < kDepthSteps)) return values_.back();
+    if (!(x > 0.0)) return 0.0;
+    const int i = int(x);
+    const double w = x - i;
+    return (1 - w) * values_[size_t(i)] + w * values_[size_t(i) + 1];
 }
 
 }  // namespace pl

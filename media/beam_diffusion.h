@@ -57,25 +57,64 @@ private:
 };
 
 // The profile tabulated in optical units (sigma_t = 1) over albedos and
-// radii, as pbrt-v3 does, for fast lookups: 2 pi r (R_ss + R_ms) at 100
-// albedos (denser near 1) and 64 radii (0, then from 2.5e-3 mean free
-// paths in steps of 1.2x), interpolated bilinearly; one table per (g, ior).
+// radii, as pbrt-v3 does, for fast lookups: 2 pi r R(r) at 100 albedos
+// (denser near 1) and 64 radii (0, then from 2.5e-3 mean free paths in
+// steps of 1.2x), interpolated linearly across albedos and exponentially
+// along r; one table per (g, ior). R is R_ss + R_ms, or R_ms alone for a
+// predictor that takes single scattering elsewhere, or R_ms scaled per
+// albedo so that with exact single scattering its total is the exact
+// half-space's (slab_transport.h): PBD's shape, the right amount.
 class BeamDiffusionTable {
 public:
-    BeamDiffusionTable(double g, double ior);
-    // Single + multiple scattering at r_mm in a medium of that albedo and
-    // extinction, per mm^2 (0 beyond the table's last radius).
+    enum class Parts { SingleAndMultiple, MultipleOnly, MultipleMatchedToHalfSpace };
+    BeamDiffusionTable(double g, double ior, Parts parts = Parts::SingleAndMultiple);
+    // The profile at r_mm in a medium of that albedo and extinction, per
+    // mm^2 (0 beyond the table's last radius).
     double profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const;
     // The profile over the plane (the light a unit beam brings out).
     double total(double albedo) const;
+    // The profile over the disc of radius r_mm around the beam.
+    double withinRadius(double albedo, double sigmaT_perMm, double r_mm) const;
+    // The profile's mean over sources spread about a point r_mm away with
+    // a mean squared distance of spread_mm2 from it, in a plane: its value
+    // plus spread / 4 times its Laplacian in the plane (second order; the
+    // profile is convex, its value alone would read a spread source low).
+    double spreadProfile_perMm2(double albedo, double sigmaT_perMm, double r_mm, double spread_mm2) const;
+    double g() const { return g_; }
 
 private:
-    // Where x falls in the ascending `knots`: the index below and the
-    // weight of the one above.
-    static std::pair<std::size_t, double> bracket(const std::vector<double>& knots, double x);
+    // Where an albedo or an optical radius falls among the knots: the
+    // index below and the weight of the one above (in closed form: the
+    // knots are regular in a transform of the value).
+    std::pair<int, float> albedoKnot(double albedo) const;
+    std::pair<int, float> radiusKnot(double r) const;
+    double g_;
     std::vector<double> albedos_, radii_;
     std::vector<double> ringValues_;  // 2 pi r R(r) per (albedo, radius), optical units
-    std::vector<double> totals_;      // per albedo
+    std::vector<float> logRingValues_;
+    std::vector<double> laplacians_;  // of R in the plane, per (albedo, radius), optical units
+    std::vector<double> withinRadius_;  // the integral from 0 to each radius, per (albedo, radius)
+    std::vector<double> totals_;        // per albedo
+};
+
+// Exact single scattering in a layered column (the diffusion predictor's
+// single scattering, docs/diffusion.md): light entering along the inward
+// normal, scattered once at optical depth tau (same depth along every
+// way out: the layers are taken as laterally uniform) and leaving through
+// the top after Fresnel. cumulative(tau) is the light single scattering
+// brings out from the depths [0, tau] of a medium of albedo 1, per unit
+// light inside; a layer of albedo a between tau0 and tau1 brings
+// a (cumulative(tau1) - cumulative(tau0)). One table per (g, ior).
+class SingleScatteringDepthTable {
+public:
+    SingleScatteringDepthTable(double g, double ior);
+    double cumulative(double tau) const;
+    // cumulative at infinite depth.
+    double total() const { return values_.back(); }
+    static constexpr double kMaxDepth = 30.0;  // beyond it e^-tau is below 1e-13
+
+private:
+    std::vector<double> values_;  // at regular depths over [0, kMaxDepth]
 };
 
 }  // namespace pl

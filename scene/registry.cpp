@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "integrators/diffusion.h"
+
 namespace pl {
 
 const std::vector<IntegratorKind>& integratorKinds() {
@@ -39,6 +41,19 @@ const std::vector<IntegratorKind>& integratorKinds() {
             std::shared_ptr<HalfSpaceMeans> controlMeans) -> std::unique_ptr<Integrator> {
              return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed,
                                                  std::move(controlMeans));
+         }},
+        // Deterministic: one sample per pixel says all it has.
+        {"diffusion", [](const RenderSettings&) { return SceneNeeds{false, false}; },
+         [](const RenderSettings& s) {
+             return s.volpath.reentry
+                        ? std::string("diffusion does not trace re-entry; the scene asks for \"reentry\": true")
+                        : std::string();
+         },
+         // Its bias bound goes with single-channel samples (sharedError).
+         [](const RenderSettings&) { return false; },
+         [](const Scene& scene, const Sensor& sensor, const RenderSettings&,
+            std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
+             return std::make_unique<Diffusion>(scene, sensor);
          }},
     };
     return kinds;

@@ -1,0 +1,34 @@
+// Colour error on the object's surface as the eye sees it (issue 30's
+// measure of a predictor against a converged reference): CIEDE2000 per
+// surface voxel, and after both sides are averaged over the eye's
+// footprint, a Gaussian on the surface (distances between the voxels'
+// surface points).
+#pragma once
+
+#include <vector>
+
+#include "core/rgb.h"
+#include "core/vecmath.h"
+
+namespace pl {
+
+// The eye's footprint on a print seen at reading distance (sigma, mm).
+constexpr float kEyeFootprint_mm = 0.2f;
+
+struct SurfaceColourError {
+    double mean = 0, p95 = 0;                  // per voxel
+    double meanFiltered = 0, p95Filtered = 0;  // over the footprint
+    std::vector<float> perVoxel;               // CIEDE2000 per voxel (unfiltered)
+};
+
+// predicted, reference: reflectance (linear sRGB, white 1) per voxel, at
+// points_mm.
+SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
+                                      const std::vector<RGB>& reference, float footprintSigma_mm = kEyeFootprint_mm);
+
+// values averaged with weights exp(-d^2 / (2 sigma^2)) over the points
+// within 3 sigma of each point.
+std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
+                                   float sigma_mm);
+
+}  // namespace pl

@@ -1,0 +1,341 @@
+#include "integrators/diffusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "media/dda.h"
+#include "runtime/scheduler.h"
+
+namespace pl {
+
+namespace {
+
+// How deep a column is read (mm): single scattering is spent within a few
+// mean free paths of the clearest resin that scatters.
+constexpr float kColumnDepth_mm = 4.0f;
+// The effective medium of a column weighs its labels by e^{-z / this}: the
+// light that diffuses out of a halftoned shell is coloured by the top
+// layers it enters and leaves through. Measured on the greek cube against
+// a converged render (docs/diffusion.md): 0.1 mm did best of 0.02-3 mm and
+// of weights over a diffusion length or the first scatters' depths.
+constexpr float kSurfaceLayer_mm = 0.1f;
+// A cluster whose radius is under this fraction of its distance counts as
+// one point at its centroid (Barnes-Hut's opening criterion).
+constexpr float kOpening = 0.5f;
+constexpr size_t kLeafElements = 8;
+// The error the predictor reports (as sharedError: it is bias, common to
+// every sample), as a share of the multiple scattering it adds: chosen so
+// that 89 % of the greek cube's voxel channels lie within twice it of a
+// converged render (bench's "within 2 errors"; docs/diffusion.md). Single
+// scattering is exact up to the column's lateral uniformity.
+constexpr float kErrorShareOfMultipleScattering = 0.5f;
+
+// The tables of one Henyey-Greenstein g (and the scene's ior).
+struct ProfileTables {
+    double g;
+    std::unique_ptr<SingleScatteringDepthTable> single;
+    std::unique_ptr<BeamDiffusionTable> multiple;  // only for a g some resin scatters with
+};
+
+// A surface element: a surface voxel's patch, and the effective medium of
+// its column per channel.
+struct Element {
+    Point3f p;
+    float area_mm2 = 0;
+    RGB sigmaT_perMm{0, 0, 0}, sigmaS_perMm{0, 0, 0};
+    std::array<uint8_t, kChannels> table{0, 0, 0};  // the multiple-scattering table per channel
+};
+
+// Elements grouped by space (median splits along the widest axis), each
+// node with its total area, its area-weighted centroid and media, and the
+// radius that holds its elements.
+class ClusterTree {
+public:
+    explicit ClusterTree(const std::vector<Element>& elements) : elements_(elements) {
+        order_.resize(elements.size());
+        for (size_t i = 0; i < order_.size(); ++i) order_[i] = uint32_t(i);
+        nodes_.reserve(2 * elements.size() / kLeafElements + 1);
+        if (!elements.empty()) build(0, uint32_t(elements.size()));
+    }
+
+    // f(distance, area, spread, sigmaT, sigmaS) for every element but
+    // `self`, or a cluster of them standing for its elements as seen from
+    // x: the spread is the mean squared distance of its area from its
+    // centroid (mm^2; an element is a square of its area).
+    template <class F>
+    void forEachSource(const Point3f& x, size_t self, F&& f) const {
+        if (nodes_.empty()) return;
+        uint32_t stack[64];
+        int top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            const float d = length(node.centroid - x);
+            if (node.leaf) {
+                for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+                    const uint32_t j = order_[k];
+                    if (j == self) continue;
+                    const Element& e = elements_[j];
+                    f(length(e.p - x), e.area_mm2, e.area_mm2 / 6.0f, e.sigmaT_perMm, e.sigmaS_perMm);
+                }
+            } else if (node.radius_mm < kOpening * d) {
+                f(d, node.area_mm2, node.spread_mm2, node.sigmaT_perMm, node.sigmaS_perMm);
+            } else {
+                stack[top++] = node.left;
+                stack[top++] = node.right;
+            }
+        }
+    }
+
+private:
+    struct Node {
+        Point3f centroid;
+        float radius_mm = 0, area_mm2 = 0, spread_mm2 = 0;
+        RGB sigmaT_perMm{0, 0, 0}, sigmaS_perMm{0, 0, 0};
+        uint32_t first = 0, count = 0, left = 0, right = 0;
+        bool leaf = false;
+    };
+
+    uint32_t build(uint32_t first, uint32_t count) {
+        const uint32_t index = uint32_t(nodes_.size());
+        nodes_.emplace_back();
+        Node node;
+        node.first = first;
+        node.count = count;
+        Point3f lo(1e30f, 1e30f, 1e30f), hi(-1e30f, -1e30f, -1e30f), weighted(0, 0, 0), mean(0, 0, 0);
+        for (uint32_t k = first; k < first + count; ++k) {
+            const Element& e = elements_[order_[k]];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], e.p[a]);
+                hi[a] = std::max(hi[a], e.p[a]);
+            }
+            node.area_mm2 += e.area_mm2;
+            weighted += e.p * e.area_mm2;
+            mean += e.p;
+            for (int c = 0; c < kChannels; ++c) {
+                node.sigmaT_perMm[c] += e.area_mm2 * e.sigmaT_perMm[c];
+                node.sigmaS_perMm[c] += e.area_mm2 * e.sigmaS_perMm[c];
+            }
+        }
+        node.centroid = node.area_mm2 > 0 ? weighted / node.area_mm2 : mean / float(count);
+        for (int c = 0; c < kChannels; ++c) {
+            node.sigmaT_perMm[c] = node.area_mm2 > 0 ? node.sigmaT_perMm[c] / node.area_mm2 : 0.0f;
+            node.sigmaS_perMm[c] = node.area_mm2 > 0 ? node.sigmaS_perMm[c] / node.area_mm2 : 0.0f;
+        }
+        double secondMoment = 0;
+        for (uint32_t k = first; k < first + count; ++k) {
+            const Element& e = elements_[order_[k]];
+            const Vec3f d = e.p - node.centroid;
+            node.radius_mm = std::max(node.radius_mm, length(d));
+            // Each element itself a square of its area (w^2 / 6 about its centre).
+            secondMoment += e.area_mm2 * (dot(d, d) + e.area_mm2 / 6.0f);
+        }
+        if (node.area_mm2 > 0) node.spread_mm2 = float(secondMoment / node.area_mm2);
+        if (count <= kLeafElements) {
+            node.leaf = true;
+        } else {
+            const Vec3f extent = hi - lo;
+            const int axis = extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
+            const uint32_t half = count / 2;
+            std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                             [&](uint32_t a, uint32_t b) {
+                                 const float pa = elements_[a].p[axis], pb = elements_[b].p[axis];
+                                 return pa < pb || (pa == pb && a < b);
+                             });
+            node.left = build(first, half);
+            node.right = build(first + half, count - half);
+        }
+        nodes_[index] = node;
+        return index;
+    }
+
+    const std::vector<Element>& elements_;
+    std::vector<uint32_t> order_;
+    std::vector<Node> nodes_;
+};
+
+}  // namespace
+
+Diffusion::~Diffusion() = default;
+
+Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
+    surface_ = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
+    if (!surface_ || !surface_->patches()) {
+        ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(),
+                                                           scene.medium->grid().surfaceVoxels(),
+                                                           SurfaceVoxelSensor::Footprint::Patch);
+        surface_ = ownSurface_.get();
+    }
+    const LabelMedium& medium = *scene.medium;
+    const SurfacePatches& patches = *surface_->patches();
+    const size_t n = surface_->pixelCount();
+
+    // One table pair per Henyey-Greenstein g of the labels.
+    std::vector<ProfileTables> tables;
+    float mostSigmaS = 0;
+    for (int c = 0; c < kChannels; ++c)
+        for (int l = 0; l < 256; ++l)
+            mostSigmaS = std::max(mostSigmaS, medium.lut(c).sigmaT_perMm[l] * medium.lut(c).albedo[l]);
+    std::array<std::array<uint8_t, 256>, kChannels> tableOfLabel{};
+    for (int c = 0; c < kChannels; ++c)
+        for (int l = 0; l < 256; ++l) {
+            const ChannelLut& lut = medium.lut(c);
+            if (!(lut.sigmaT_perMm[l] > 0)) continue;
+            auto same = std::find_if(tables.begin(), tables.end(), [&](const ProfileTables& t) { return t.g == lut.g[l]; });
+            if (same == tables.end()) {
+                tables.push_back({lut.g[l], std::make_unique<SingleScatteringDepthTable>(lut.g[l], scene.ior), nullptr});
+                same = tables.end() - 1;
+            }
+            tableOfLabel[c][l] = uint8_t(same - tables.begin());
+            // Resins that hardly scatter (clear) bring no diffusion.
+            if (lut.sigmaT_perMm[l] * lut.albedo[l] > 1e-3f * mostSigmaS && !same->multiple)
+                same->multiple = std::make_unique<BeamDiffusionTable>(lut.g[l], scene.ior,
+                                                                      BeamDiffusionTable::Parts::MultipleMatchedToHalfSpace);
+        }
+
+    // Each element's column: single scattering and the effective medium.
+    std::vector<Element> elements(n);
+    single_.assign(n, RGB{0, 0, 0});
+    multiple_.assign(n, RGB{0, 0, 0});
+    const Vec3i gridLo = medium.frame().indexMin, gridHi = medium.frame().indexMax();
+    parallelForTiles(n, 256, [&](size_t begin, size_t end) {
+        LabelMedium::Sampler sampler(medium);
+        struct Segment {
+            Label label;
+            float z0, z1;
+        };
+        std::vector<Segment> column;
+        for (size_t i = begin; i < end; ++i) {
+            const SurfaceVoxelSensor::Pixel& pixel = surface_->pixels()[i];
+            Element& e = elements[i];
+            Vec3f normal = pixel.normal;
+            e.p = pixel.surfacePoint_mm;
+            e.area_mm2 = float(patches.area_mm2(i));
+            if (e.area_mm2 > 0) {
+                Point3f weighted(0, 0, 0);
+                Vec3f n(0, 0, 0);
+                for (const SurfacePatches::Piece* piece = patches.begin(i); piece != patches.end(i); ++piece) {
+                    weighted += (piece->a + piece->b + piece->c) * (piece->area_mm2 / 3.0f);
+                    n += piece->normal * piece->area_mm2;
+                }
+                e.p = weighted / e.area_mm2;
+                if (length(n) > 0) normal = normalize(n);
+            }
+            const Ray inward = scene.geometry->spawnRay(e.p, normal, -normal);
+            const auto exit = scene.geometry->intersectFromInside(inward, kColumnDepth_mm);
+            const float depth_mm = exit ? exit->t : kColumnDepth_mm;
+            const CellRay cells = medium.toCellRay(inward);
+            column.clear();
+            GridDda dda(cells.o, cells.d, 0.0f, depth_mm, gridLo, gridHi);
+            DdaSegment segment;
+            while (dda.next(segment)) column.push_back({sampler.labelAt(segment.cell), segment.t0, segment.t1});
+
+            for (int c = 0; c < kChannels; ++c) {
+                const ChannelLut& lut = medium.lut(c);
+                // Single scattering, layer by layer.
+                double tau = 0, single = 0;
+                for (const Segment& s : column) {
+                    const SingleScatteringDepthTable& table = *tables[tableOfLabel[c][s.label]].single;
+                    const double tauNext = tau + double(lut.sigmaT_perMm[s.label]) * (s.z1 - s.z0);
+                    single += lut.albedo[s.label] * (table.cumulative(tauNext) - table.cumulative(tau));
+                    tau = tauNext;
+                    if (tau > SingleScatteringDepthTable::kMaxDepth) break;
+                }
+                single_[i][c] = float(single);
+                // The effective medium: the coefficients weighted by
+                // e^{-z / kSurfaceLayer_mm} down the column.
+                double w = 0, wt = 0, ws = 0, wg = 0;
+                float above = column.empty() ? 0.0f : std::exp(-column.front().z0 / kSurfaceLayer_mm);
+                for (const Segment& s : column) {
+                    const float below = std::exp(-s.z1 / kSurfaceLayer_mm);
+                    const double weight = above - below;
+                    above = below;
+                    const double st = lut.sigmaT_perMm[s.label], ss = st * lut.albedo[s.label];
+                    w += weight;
+                    wt += weight * st;
+                    ws += weight * ss;
+                    wg += weight * ss * lut.g[s.label];
+                    if (below < 1e-3f) break;  // the rest weighs less than 0.1 %
+                }
+                const float sigmaT = w > 0 ? float(wt / w) : 0.0f, sigmaS = w > 0 ? float(ws / w) : 0.0f;
+                const float g = ws > 0 ? float(wg / ws) : 0.0f;
+                e.sigmaT_perMm[c] = sigmaT;
+                e.sigmaS_perMm[c] = sigmaS;
+                // The multiple-scattering table of the nearest g.
+                float nearest = 1e30f;
+                for (size_t t = 0; t < tables.size(); ++t)
+                    if (tables[t].multiple && std::abs(float(tables[t].g) - g) < nearest) {
+                        nearest = std::abs(float(tables[t].g) - g);
+                        e.table[c] = uint8_t(t);
+                    }
+            }
+        }
+    });
+
+    // Multiple scattering: the profile summed over the surface around each
+    // element, in the medium averaged between the two columns.
+    const ClusterTree tree(elements);
+    parallelForTiles(n, 256, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            const Element& e = elements[i];
+            std::array<double, kChannels> sum{0, 0, 0};
+            auto add = [&](float r_mm, float area_mm2, float spread_mm2, const RGB& sigmaT, const RGB& sigmaS) {
+                for (int c = 0; c < kChannels; ++c) {
+                    const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
+                    if (!table) continue;
+                    const float st = 0.5f * (e.sigmaT_perMm[c] + sigmaT[c]), ss = 0.5f * (e.sigmaS_perMm[c] + sigmaS[c]);
+                    if (st > 0) sum[c] += area_mm2 * table->spreadProfile_perMm2(ss / st, st, r_mm, spread_mm2);
+                }
+            };
+            // Its own patch: the profile over a disc of its area.
+            const float ownRadius_mm = std::sqrt(e.area_mm2 / 3.14159265f);
+            for (int c = 0; c < kChannels; ++c) {
+                const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
+                if (table && e.sigmaT_perMm[c] > 0)
+                    sum[c] += table->withinRadius(e.sigmaS_perMm[c] / e.sigmaT_perMm[c], e.sigmaT_perMm[c], ownRadius_mm);
+            }
+            tree.forEachSource(e.p, i, add);
+            for (int c = 0; c < kChannels; ++c) multiple_[i][c] = float(sum[c]);
+        }
+    });
+}
+
+RGB Diffusion::radiance(const Ray& ray, int reflectionsLeft, RGB* biasBound) const {
+    const RGB& Le = scene_.environment;
+    const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
+    if (!hit) return Le;
+    if (dot(ray.d, hit->ng) >= 0) return {0, 0, 0};  // from inside: not a view of the surface
+    const float cosine = std::clamp(-dot(ray.d, hit->ns), 0.0f, 1.0f);
+    const float fresnel = fresnelDielectric(cosine, scene_.ior);
+    RGB mirrored = Le;
+    if (reflectionsLeft > 0)
+        mirrored = radiance(scene_.geometry->spawnRay(hit->p, hit->ng, reflectOnSide(ray.d, *hit)), reflectionsLeft - 1,
+                            nullptr);
+    RGB L;
+    for (int c = 0; c < kChannels; ++c) L[c] = fresnel * mirrored[c];
+    const std::optional<uint32_t> element = surface_->patches()->pixelAt(hit->prim, hit->p);
+    if (!element) return L;
+    for (int c = 0; c < kChannels; ++c) {
+        L[c] += (1.0f - fresnel) * Le[c] * (single_[*element][c] + multiple_[*element][c]);
+        if (biasBound) (*biasBound)[c] = (1.0f - fresnel) * Le[c] * kErrorShareOfMultipleScattering * multiple_[*element][c];
+    }
+    return L;
+}
+
+ChannelSample Diffusion::Li(Ray ray, int channel, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+    RGB bias{0, 0, 0};
+    const RGB L = radiance(ray, 1, &bias);
+    ++stats.paths;
+    ChannelSample sample;
+    sample.value = L[channel];
+    sample.sharedError = bias[channel];
+    return sample;
+}
+
+RGB Diffusion::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+    ++stats.paths;
+    return radiance(ray, 1, nullptr);
+}
+
+}  // namespace pl
