@@ -6,6 +6,7 @@
 #include <deque>
 
 #include "compare/color_difference.h"
+#include "compare/surface_colour_error.h"
 #include "prepare/halftone.h"
 
 namespace pl {
@@ -161,6 +162,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
 
+    // The Monte Carlo integrator of the settings, and the fast one if any.
+    const std::string monteCarlo = predictor.settings().integrator;
+    const bool fastFirst = !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo;
     auto t0 = Clock::now();
     SurfacePrediction p = predictor.predict();
     if (targets.size() != p.voxels.size())
@@ -196,13 +200,24 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     };
     const std::vector<RGB> scoredTarget = smooth(mapped, settings.scoreRadius);
 
+    // The first iteration's prediction again with the fast predictor.
+    if (fastFirst) {
+        predictor.settings().integrator = settings.fastPredictor;
+        p = predictor.predict();
+    }
     std::vector<RGB> requested = targets;
+    double previousScore = 0;
     for (int iteration = 0;; ++iteration) {
         std::vector<RGB> predicted = reflectance(p, environment);
         OptimizeIteration it;
         it.iteration = iteration;
+        it.predictor = predictor.settings().integrator;
         scoreInto(smooth(predicted, settings.scoreRadius), scoredTarget, it.meanDeltaE, it.p95DeltaE);
         scoreInto(predicted, mapped, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel);
+        // Past the fast predictor's use: its score has stopped falling.
+        const bool switchNow = fastFirst && predictor.settings().integrator == settings.fastPredictor &&
+                               iteration > 0 && previousScore - it.meanDeltaE < settings.switchBelowDeltaE;
+        previousScore = it.meanDeltaE;
         if (iteration == settings.iterations) {
             result.finalPredicted = smooth(predicted, settings.scoreRadius);
             result.finalTarget = scoredTarget;
@@ -233,9 +248,26 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         t0 = Clock::now();
         // A new seed each iteration: the loop must not fit one noise realisation.
         predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
+        if (switchNow) predictor.settings().integrator = monteCarlo;
         p = predictor.predict();
     }
     predictor.settings().seed = baseSeed;
+    predictor.settings().integrator = monteCarlo;
+    if (settings.judgeSpp > 0) {
+        // The judge: what gets printed, rendered apart from the loop.
+        const RenderSettings loop = predictor.settings();
+        predictor.settings().integrator = settings.judgeIntegrator;
+        predictor.settings().spp = settings.judgeSpp;
+        predictor.settings().seed = settings.judgeSeed;
+        const auto j0 = Clock::now();
+        const SurfacePrediction judged = predictor.predict();
+        predictor.settings() = loop;
+        const SurfaceColourError e =
+            surfaceColourError(predictor.surfacePoints_mm(), reflectance(judged, environment), mapped);
+        result.judgement = OptimizeJudgement{settings.judgeIntegrator, settings.judgeSpp, settings.judgeSeed, e.mean,
+                                             e.p95, e.meanFiltered, e.p95Filtered,
+                                             std::chrono::duration<double>(Clock::now() - j0).count()};
+    }
     return result;
 }
 

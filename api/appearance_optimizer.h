@@ -20,6 +20,8 @@
 #pragma once
 
 #include <functional>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include "api/predictor.h"
@@ -36,6 +38,19 @@ struct OptimizeSettings {
     // Monte Carlo noise of a few samples dominates CIEDE2000.
     int scoreRadius = 1;
     bool gamutMap = true;
+    // A fast predictor (an integrator's name, e.g. "diffusion") for the
+    // first iterations: the loop predicts with it while its own score falls
+    // by at least switchBelowDeltaE per iteration (past that the predictor's
+    // bias is larger than what a step changes), then with the predictor's
+    // settings (Monte Carlo). The calibrations use the latter. Empty: none.
+    std::string fastPredictor;
+    double switchBelowDeltaE = 0.25;
+    // The judge: the final labels rendered independently (this integrator,
+    // spp and seed) and scored against the mapped targets per voxel and
+    // over the eye's footprint (compare/surface_colour_error.h). 0 spp: none.
+    std::string judgeIntegrator = "lighttrace";
+    uint32_t judgeSpp = 0;
+    uint64_t judgeSeed = 99;
 };
 
 struct OptimizeIteration {
@@ -45,6 +60,16 @@ struct OptimizeIteration {
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;      // prediction plus update
     size_t changedVoxels = 0;
+    std::string predictor;  // the integrator that made this iteration's prediction
+};
+
+struct OptimizeJudgement {
+    std::string integrator;
+    uint32_t spp = 0;
+    uint64_t seed = 0;
+    double mean = 0, p95 = 0;                  // CIEDE2000 per voxel
+    double meanFiltered = 0, p95Filtered = 0;  // over the eye's footprint
+    double seconds = 0;
 };
 
 struct OptimizeResult {
@@ -54,6 +79,7 @@ struct OptimizeResult {
     // scoreRadius): predicted and (mapped) target reflectance, CIEDE2000.
     std::vector<RGB> finalPredicted, finalTarget;
     std::vector<float> finalDeltaE;
+    std::optional<OptimizeJudgement> judgement;  // with judgeSpp > 0
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends

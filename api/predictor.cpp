@@ -45,6 +45,12 @@ std::vector<Vec3i> Predictor::surfaceVoxels() const {
     for (const auto& px : state_->sensor->pixels()) v.push_back(px.voxel);
     return v;
 }
+std::vector<Point3f> Predictor::surfacePoints_mm() const {
+    std::vector<Point3f> points;
+    points.reserve(state_->sensor->pixelCount());
+    for (const auto& px : state_->sensor->pixels()) points.push_back(px.surfacePoint_mm);
+    return points;
+}
 RGB Predictor::environment() const { return state_->scene.environment; }
 GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 

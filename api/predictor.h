@@ -65,8 +65,10 @@ public:
     AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
-    // The surface voxels in the order predict() reports them.
+    // The surface voxels in the order predict() reports them, and where
+    // each meets the surface (the render's local frame).
     std::vector<Vec3i> surfaceVoxels() const;
+    std::vector<Point3f> surfacePoints_mm() const;
     // Radiance of the surroundings (divide by it for reflectance) and the
     // grid's placement in the world (labels() is in the render's local frame).
     RGB environment() const;

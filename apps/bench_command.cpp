@@ -294,7 +294,7 @@ SurfaceReflectances surfaceReflectances(const Film& film, const SurfaceVoxelSens
     return s;
 }
 
-// The per-voxel CIEDE2000 on the atlas: black 0, green 2, yellow 5, red 10 and more.
+// The per-voxel CIEDE2000 on the atlas (deltaEColour's scale).
 RadianceImage deltaEImage(const std::vector<float>& deltaE, const std::vector<int64_t>& imageIndex, int width,
                           int height) {
     RadianceImage im;
@@ -304,9 +304,7 @@ RadianceImage deltaEImage(const std::vector<float>& deltaE, const std::vector<in
     im.standardError.assign(im.mean.size(), RGB{0, 0, 0});
     im.coverage.assign(im.mean.size(), 0.0f);
     for (size_t k = 0; k < deltaE.size(); ++k) {
-        const float d = deltaE[k];
-        RGB c = d < 2 ? RGB{0, d / 2, 0} : d < 5 ? RGB{(d - 2) / 3, 1, 0} : RGB{1, std::max(0.0f, 1 - (d - 5) / 5), 0};
-        im.mean[size_t(imageIndex[k])] = c;
+        im.mean[size_t(imageIndex[k])] = deltaEColour(deltaE[k]);
         im.coverage[size_t(imageIndex[k])] = 1;
     }
     return im;

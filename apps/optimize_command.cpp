@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "api/appearance_optimizer.h"
+#include "compare/surface_colour_error.h"
+#include "scene/registry.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "runtime/distributed.h"
@@ -65,22 +67,6 @@ std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& pla
     return targets;
 }
 
-// A colour for a CIEDE2000 value: blue 0, green 2.5, yellow 5, red 10 and
-// above (linear RGB).
-RGB deltaEColor(float deltaE) {
-    const RGB stops[] = {{0.02f, 0.05f, 0.6f}, {0.05f, 0.5f, 0.1f}, {0.9f, 0.8f, 0.05f}, {0.8f, 0.02f, 0.02f}};
-    const float at[] = {0.0f, 2.5f, 5.0f, 10.0f};
-    if (!(deltaE > 0.0f)) return stops[0];
-    for (int k = 1; k < 4; ++k)
-        if (deltaE < at[k]) {
-            const float f = (deltaE - at[k - 1]) / (at[k] - at[k - 1]);
-            RGB c;
-            for (int ch = 0; ch < 3; ++ch) c[ch] = stops[k - 1][ch] + f * (stops[k][ch] - stops[k - 1][ch]);
-            return c;
-        }
-    return stops[3];
-}
-
 }  // namespace
 
 int optimizeCommand(const std::vector<std::string>& argv) {
@@ -93,6 +79,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--shell-mm", "D", "depth of the shell whose labels change"},
                     kThreadsOption,
                     integratorOption(),
+                    {"--predictor", "NAME|auto",
+                     "predict with that estimator (as --integrator), or auto: diffusion while its score falls, then "
+                     "the scene's (or --integrator's) Monte Carlo"},
+                    {"--judge-spp", "N", "render the final labels apart (the scene's Monte Carlo estimator, N spp) and score them"},
+                    {"--judge-seed", "S", "the judge's seed (default 99)"},
                     kChannelSamplingOption,
                     {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
                     {"--no-gamut-map", "", "match the target as given, without mapping it into the printable gamut"},
@@ -112,6 +103,14 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!(os.shellDepth_mm >= 0 && os.shellDepth_mm <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
     }
     os.scoreRadius = int(args.integer("--score-radius", 0, 8).value_or(os.scoreRadius));
+    os.judgeSpp = uint32_t(args.integer("--judge-spp", 1, RenderSettings::kMostSpp).value_or(0));
+    os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
+    const std::string predictorName = args.value("--predictor").value_or("");
+    if (!predictorName.empty() && predictorName != "auto") {
+        if (args.has("--integrator")) throw UsageError("optimize takes --predictor or --integrator, not both");
+        if (!findIntegratorKind(predictorName))
+            throw UsageError("--predictor must be auto or an estimator: " + integratorNames());
+    }
     ThreadLimit threadLimit(args);
 
     auto t0 = std::chrono::steady_clock::now();
@@ -130,6 +129,14 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
+    // The judge renders with the scene's Monte Carlo estimator (or
+    // --integrator's); a deterministic predictor cannot judge itself.
+    os.judgeIntegrator = desc.render.integrator == "diffusion" ? "volpath" : desc.render.integrator;
+    if (predictorName == "auto") os.fastPredictor = "diffusion";
+    else if (!predictorName.empty()) {
+        desc.render.integrator = predictorName;
+        desc.render.volpath.reentry = false;
+    }
     std::unique_ptr<Predictor> loaded;  // on every rank, or none (rank 0 says why)
     runOnEveryRank([&] { loaded = std::make_unique<Predictor>(desc, desc.render); });
     Predictor& predictor = *loaded;
@@ -142,14 +149,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (speaks)
         std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
-    const char* header = "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels\n";
+    const char* header =
+        "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, targets, os, [&](const OptimizeIteration& it) {
         char line[160];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu\n", it.iteration, it.meanDeltaE,
-                      it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels);
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s\n", it.iteration, it.meanDeltaE,
+                      it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels,
+                      it.predictor.c_str());
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
@@ -167,6 +176,14 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 os.scoreRadius, its.front().meanDeltaE, its.back().meanDeltaE,
                 100.0 * (1.0 - its.back().meanDeltaE / its.front().meanDeltaE), its.front().p95DeltaE,
                 its.back().p95DeltaE, its.front().meanDeltaEPerVoxel, its.back().meanDeltaEPerVoxel);
+    double loopSeconds = 0;
+    for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
+    std::printf("the loop took %.1f s\n", loopSeconds);
+    if (const auto& j = result.judgement)
+        std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): mean CIEDE2000 %.3f, 95th percentile %.3f per voxel; "
+                    "over the eye's %g mm footprint %.3f, 95th percentile %.3f\n",
+                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, j->mean, j->p95,
+                    kEyeFootprint_mm, j->meanFiltered, j->p95Filtered);
     if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
     writeTextFile(csvFile, csv.str());
     LabelGrid final = predictor.labels().withChanges({});
@@ -179,7 +196,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     writePredictionGlb(patches, result.finalTarget, targetGlb);
     writePredictionGlb(patches, result.finalPredicted, predictionGlb);
     std::vector<RGB> errorColors(result.finalDeltaE.size());
-    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColor(result.finalDeltaE[i]);
+    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(result.finalDeltaE[i]);
     writePredictionGlb(patches, errorColors, errorGlb);
     HtmlReport report;
     report.title = "printlight optimize: " + desc.sceneFile.filename().string();

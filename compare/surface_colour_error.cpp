@@ -33,6 +33,20 @@ std::vector<float> deltaEs(const std::vector<RGB>& a, const std::vector<RGB>& b)
 
 }  // namespace
 
+RGB deltaEColour(float deltaE) {
+    const RGB stops[] = {{0.02f, 0.05f, 0.6f}, {0.05f, 0.5f, 0.1f}, {0.9f, 0.8f, 0.05f}, {0.8f, 0.02f, 0.02f}};
+    const float at[] = {0.0f, 2.5f, 5.0f, 10.0f};
+    if (!(deltaE > 0.0f)) return stops[0];
+    for (int k = 1; k < 4; ++k)
+        if (deltaE < at[k]) {
+            const float f = (deltaE - at[k - 1]) / (at[k] - at[k - 1]);
+            RGB c;
+            for (int ch = 0; ch < 3; ++ch) c[ch] = stops[k - 1][ch] + f * (stops[k][ch] - stops[k - 1][ch]);
+            return c;
+        }
+    return stops[3];
+}
+
 std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
                                    float sigma_mm) {
     if (!(sigma_mm > 0)) return values;

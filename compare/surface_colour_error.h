@@ -26,6 +26,10 @@ struct SurfaceColourError {
 SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
                                       const std::vector<RGB>& reference, float footprintSigma_mm = kEyeFootprint_mm);
 
+// A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
+// 5, red 10 and above.
+RGB deltaEColour(float deltaE);
+
 // values averaged with weights exp(-d^2 / (2 sigma^2)) over the points
 // within 3 sigma of each point.
 std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,

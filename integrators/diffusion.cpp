@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <mutex>
+#include <type_traits>
 
 #include "media/dda.h"
 #include "runtime/scheduler.h"
@@ -34,9 +36,27 @@ constexpr float kErrorShareOfMultipleScattering = 0.5f;
 // The tables of one Henyey-Greenstein g (and the scene's ior).
 struct ProfileTables {
     double g;
-    std::unique_ptr<SingleScatteringDepthTable> single;
-    std::unique_ptr<BeamDiffusionTable> multiple;  // only for a g some resin scatters with
+    std::shared_ptr<const SingleScatteringDepthTable> single;
+    std::shared_ptr<const BeamDiffusionTable> multiple;  // only for a g some resin scatters with
 };
+
+// The tables of (g, ior), made once per process: an optimisation loop
+// makes a predictor per iteration, and the multiple-scattering table takes
+// a few tenths of a second.
+template <class Table>
+std::shared_ptr<const Table> sharedTable(double g, double ior) {
+    static std::mutex mutex;
+    static std::map<std::pair<double, double>, std::shared_ptr<const Table>> tables;
+    std::lock_guard<std::mutex> lock(mutex);
+    std::shared_ptr<const Table>& table = tables[{g, ior}];
+    if (!table) {
+        if constexpr (std::is_same_v<Table, BeamDiffusionTable>)
+            table = std::make_shared<const Table>(g, ior, BeamDiffusionTable::Parts::MultipleMatchedToHalfSpace);
+        else
+            table = std::make_shared<const Table>(g, ior);
+    }
+    return table;
+}
 
 // A surface element: a surface voxel's patch, and the effective medium of
 // its column per channel.
@@ -184,14 +204,13 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
             if (!(lut.sigmaT_perMm[l] > 0)) continue;
             auto same = std::find_if(tables.begin(), tables.end(), [&](const ProfileTables& t) { return t.g == lut.g[l]; });
             if (same == tables.end()) {
-                tables.push_back({lut.g[l], std::make_unique<SingleScatteringDepthTable>(lut.g[l], scene.ior), nullptr});
+                tables.push_back({lut.g[l], sharedTable<SingleScatteringDepthTable>(lut.g[l], scene.ior), nullptr});
                 same = tables.end() - 1;
             }
             tableOfLabel[c][l] = uint8_t(same - tables.begin());
             // Resins that hardly scatter (clear) bring no diffusion.
             if (lut.sigmaT_perMm[l] * lut.albedo[l] > 1e-3f * mostSigmaS && !same->multiple)
-                same->multiple = std::make_unique<BeamDiffusionTable>(lut.g[l], scene.ior,
-                                                                      BeamDiffusionTable::Parts::MultipleMatchedToHalfSpace);
+                same->multiple = sharedTable<BeamDiffusionTable>(lut.g[l], scene.ior);
         }
 
     // Each element's column: single scattering and the effective medium.
