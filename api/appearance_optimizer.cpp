@@ -170,8 +170,10 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     if (targets.size() != p.voxels.size())
         throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
     std::vector<int32_t> owner = shellOwners(labels, voidLabel, frame, p.voxels, settings.shellDepth_mm);
-    std::vector<RGB> mapped = targets;
-    if (settings.gamutMap) {
+    // The targets mapped into the gamut the current integrator predicts.
+    auto mapIntoGamut = [&](RGB& black, RGB& white) {
+        std::vector<RGB> mapped = targets;
+        if (!settings.gamutMap) return mapped;
         // Calibration: the shell all black, then all white; then the labels as given again.
         // One sample per voxel: the mean over all surface voxels is precise.
         auto meanWith = [&](Label l) {
@@ -185,12 +187,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
             predictor.changeLabels(changes);
             return m;
         };
-        result.gamutBlack = meanWith(kBlackLabel);
-        result.gamutWhite = meanWith(kWhiteLabel);
+        black = meanWith(kBlackLabel);
+        white = meanWith(kWhiteLabel);
         for (RGB& t : mapped)
-            for (int c = 0; c < 3; ++c)
-                t[c] = result.gamutBlack[c] + std::clamp(t[c], 0.0f, 1.0f) * (result.gamutWhite[c] - result.gamutBlack[c]);
-    }
+            for (int c = 0; c < 3; ++c) t[c] = black[c] + std::clamp(t[c], 0.0f, 1.0f) * (white[c] - black[c]);
+        return mapped;
+    };
+    const std::vector<RGB> mapped = mapIntoGamut(result.gamutBlack, result.gamutWhite);
     // Surface voxels by position, for smoothing.
     DenseIndex at{frame.resolution};
     std::vector<int32_t> surfaceAt(labels.size(), -1);
@@ -261,9 +264,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         predictor.settings().seed = settings.judgeSeed;
         const auto j0 = Clock::now();
         const SurfacePrediction judged = predictor.predict();
+        // Against the targets mapped by the judge's own calibration: the
+        // same whatever predicted.
+        RGB black, white;
+        const std::vector<RGB> judgeTargets = mapIntoGamut(black, white);
         predictor.settings() = loop;
         const SurfaceColourError e =
-            surfaceColourError(predictor.surfacePoints_mm(), reflectance(judged, environment), mapped);
+            surfaceColourError(predictor.surfacePoints_mm(), reflectance(judged, environment), judgeTargets);
         result.judgement = OptimizeJudgement{settings.judgeIntegrator, settings.judgeSpp, settings.judgeSeed, e.mean,
                                              e.p95, e.meanFiltered, e.p95Filtered,
                                              std::chrono::duration<double>(Clock::now() - j0).count()};

@@ -546,7 +546,8 @@ int benchCommand(const std::vector<std::string>& argv) {
             if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
-                            timeToTarget(r.seconds, medianRel, target),
+                            integratorKindOf(s).deterministic ? (medianRel <= target ? r.seconds : INFINITY)
+                                                              : timeToTarget(r.seconds, medianRel, target),
                             double(r.stats.scatterEvents) / (r.seconds * cores), colour, bias, withinTwoErrors});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
                          r.seconds, e.rmseAll);

@@ -56,6 +56,8 @@ inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
         r.integrator = *in;
         if (std::string why = kind->refusal(r); !why.empty()) throw UsageError(why);
     }
+    // One sample of a deterministic estimator says all (scene/render.cpp).
+    if (const IntegratorKind* kind = findIntegratorKind(r.integrator); kind && kind->deterministic) r.spp = 1;
 }
 
 }  // namespace pl

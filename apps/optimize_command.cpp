@@ -82,7 +82,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--predictor", "NAME|auto",
                      "predict with that estimator (as --integrator), or auto: diffusion while its score falls, then "
                      "the scene's (or --integrator's) Monte Carlo"},
-                    {"--judge-spp", "N", "render the final labels apart (the scene's Monte Carlo estimator, N spp) and score them"},
+                    {"--judge-spp", "N", "render the final labels apart (the scene file's estimator, N spp) and score them"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
                     kChannelSamplingOption,
                     {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
@@ -127,11 +127,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
     if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
+    // The judge renders with the scene file's own Monte Carlo estimator,
+    // whatever predicts (a deterministic predictor cannot judge itself).
+    os.judgeIntegrator = desc.render.integrator == "diffusion" ? "volpath" : desc.render.integrator;
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
-    // The judge renders with the scene's Monte Carlo estimator (or
-    // --integrator's); a deterministic predictor cannot judge itself.
-    os.judgeIntegrator = desc.render.integrator == "diffusion" ? "volpath" : desc.render.integrator;
     if (predictorName == "auto") os.fastPredictor = "diffusion";
     else if (!predictorName.empty()) {
         desc.render.integrator = predictorName;

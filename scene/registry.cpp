@@ -54,7 +54,8 @@ const std::vector<IntegratorKind>& integratorKinds() {
          [](const Scene& scene, const Sensor& sensor, const RenderSettings&,
             std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
              return std::make_unique<Diffusion>(scene, sensor);
-         }},
+         },
+         true},
     };
     return kinds;
 }

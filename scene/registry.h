@@ -23,6 +23,10 @@ struct IntegratorKind {
     bool (*threeChannelsInOnePath)(const RenderSettings&);
     std::unique_ptr<Integrator> (*make)(const Scene&, const Sensor&, const RenderSettings&,
                                         std::shared_ptr<HalfSpaceMeans>);
+    // Whether every sample of a pixel is the same (a deterministic
+    // predictor): one sample says all, and its error is bias, which more
+    // time does not reduce.
+    bool deterministic = false;
 };
 
 const std::vector<IntegratorKind>& integratorKinds();
