@@ -194,6 +194,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         return mapped;
     };
     const std::vector<RGB> mapped = mapIntoGamut(result.gamutBlack, result.gamutWhite);
+    const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
     // Surface voxels by position, for smoothing.
     DenseIndex at{frame.resolution};
     std::vector<int32_t> surfaceAt(labels.size(), -1);
@@ -237,7 +238,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         std::vector<RGB> error(predicted.size());
         for (size_t i = 0; i < error.size(); ++i)
             for (int c = 0; c < 3; ++c) error[i][c] = mapped[i][c] - predicted[i][c];
-        error = smooth(error, settings.smoothRadius);
+        error = settings.updateFootprint_mm > 0 ? gaussianOnSurface(points_mm, error, settings.updateFootprint_mm)
+                                                : smooth(error, settings.smoothRadius);
         for (size_t s = 0; s < requested.size(); ++s)
             for (int c = 0; c < 3; ++c)
                 requested[s][c] = std::clamp(requested[s][c] + settings.step * error[s][c], 0.0f, 1.0f);
@@ -270,7 +272,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         const std::vector<RGB> judgeTargets = mapIntoGamut(black, white);
         predictor.settings() = loop;
         const SurfaceColourError e =
-            surfaceColourError(predictor.surfacePoints_mm(), reflectance(judged, environment), judgeTargets);
+            surfaceColourError(points_mm, reflectance(judged, environment), judgeTargets);
         result.judgement = OptimizeJudgement{settings.judgeIntegrator, settings.judgeSpp, settings.judgeSeed, e.mean,
                                              e.p95, e.meanFiltered, e.p95Filtered,
                                              std::chrono::duration<double>(Clock::now() - j0).count()};

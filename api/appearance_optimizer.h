@@ -33,6 +33,10 @@ struct OptimizeSettings {
     float shellDepth_mm = 1.0f;
     float step = 0.5f;
     int smoothRadius = 1;
+    // > 0: the error is averaged instead with a Gaussian of this sigma on
+    // the surface (e.g. the eye's footprint, kEyeFootprint_mm): detail finer
+    // than the eye sees is left alone, and so is most of the noise.
+    float updateFootprint_mm = 0;
     // Colours are compared after averaging prediction and target over the
     // surface voxels within this many voxels (0: per voxel). Per voxel, the
     // Monte Carlo noise of a few samples dominates CIEDE2000.

@@ -84,6 +84,9 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                      "the scene's (or --integrator's) Monte Carlo"},
                     {"--judge-spp", "N", "render the final labels apart (the scene file's estimator, N spp) and score them"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
+                    {"--update-footprint-mm", "S",
+                     "average each iteration's error with a Gaussian of this sigma on the surface (e.g. 0.2, the eye's) "
+                     "instead of over neighbouring voxels"},
                     kChannelSamplingOption,
                     {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
                     {"--no-gamut-map", "", "match the target as given, without mapping it into the printable gamut"},
@@ -103,6 +106,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!(os.shellDepth_mm >= 0 && os.shellDepth_mm <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
     }
     os.scoreRadius = int(args.integer("--score-radius", 0, 8).value_or(os.scoreRadius));
+    if (auto s = args.value("--update-footprint-mm")) {
+        os.updateFootprint_mm = float(std::atof(s->c_str()));
+        if (!(os.updateFootprint_mm > 0 && os.updateFootprint_mm <= 10))
+            throw UsageError("--update-footprint-mm must be in (0, 10]");
+    }
     os.judgeSpp = uint32_t(args.integer("--judge-spp", 1, RenderSettings::kMostSpp).value_or(0));
     os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
     const std::string predictorName = args.value("--predictor").value_or("");

@@ -160,7 +160,15 @@ std::vector<std::vector<double>> readCsvNumbers(const fs::path& file) {
     std::vector<std::vector<double>> rows;
     for (const auto& cells : readCsvCells(file)) {
         std::vector<double> row;
-        for (const std::string& cell : cells) row.push_back(std::stod(cell));
+        for (const std::string& cell : cells) {
+            // A text cell (optimize's predictor column) reads as NaN.
+            double v = std::nan("");
+            try {
+                v = std::stod(cell);
+            } catch (const std::invalid_argument&) {
+            }
+            row.push_back(v);
+        }
         rows.push_back(row);
     }
     return rows;
@@ -873,6 +881,35 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     CliRun bad = printlight("optimize " + s.write().string() + " --target 2,0,0", s.dir);
     EXPECT_EQ(bad.exitCode, 2) << bad.err;
     EXPECT_NE(bad.err.find("--target"), std::string::npos) << bad.err;
+}
+
+// The fast predictor first, then Monte Carlo, and the final labels judged
+// apart: a blue the shell can print is far closer than the white it
+// started from, as the judge sees it too, per voxel and over the eye's
+// footprint.
+TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
+    TestScene s("optimize_auto");
+    fs::path prefix = s.dir / "out" / "opt";
+    CliRun r = printlight("optimize " + s.write().string() +
+                              " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 -o " + prefix.string(),
+                          s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const auto cells = readCsvCells(prefix.string() + ".csv");
+    ASSERT_EQ(cells.size(), 7u);  // iterations 0-6
+    EXPECT_EQ(cells[0].back(), "diffusion");
+    EXPECT_EQ(cells[6].back(), "volpath");  // the scene's estimator by the end (its score flattens)
+    const auto rows = readCsvNumbers(prefix.string() + ".csv");
+    const size_t at = r.out.find("judged apart (volpath, 8 spp, seed 99");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    double perVoxel = 0, p95 = 0, filtered = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("mean CIEDE2000", at), "mean CIEDE2000 %lf, 95th percentile %lf",
+                          &perVoxel, &p95), 2) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("footprint", at), "footprint %lf", &filtered), 1) << r.out;
+    EXPECT_LT(filtered, 0.6 * rows[0][1]) << r.out;
+    EXPECT_LE(filtered, perVoxel) << r.out;  // averaging over the footprint removes noise
+    CliRun bad = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --predictor fast", s.dir);
+    EXPECT_EQ(bad.exitCode, 2) << bad.err;
+    EXPECT_NE(bad.err.find("--predictor"), std::string::npos) << bad.err;
 }
 
 TEST(Cli, OptimizeReducesTheErrorOnTheDetailedCube) {
