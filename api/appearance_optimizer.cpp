@@ -162,18 +162,29 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
 
-    // The Monte Carlo integrator of the settings, and the fast one if any.
+    // The predictor's settings come back as they were, whatever happens.
+    struct RestoreSettings {
+        Predictor& predictor;
+        RenderSettings saved;
+        ~RestoreSettings() { predictor.settings() = saved; }
+    } restore{predictor, predictor.settings()};
+    // The Monte Carlo integrator of the settings, and the fast one if any
+    // (with iterations to use it on).
     const std::string monteCarlo = predictor.settings().integrator;
-    const bool fastFirst = !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo;
+    const bool fastFirst =
+        !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo && settings.iterations > 0;
+    if (fastFirst) predictor.settings().integrator = settings.fastPredictor;
     auto t0 = Clock::now();
     SurfacePrediction p = predictor.predict();
     if (targets.size() != p.voxels.size())
         throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
     std::vector<int32_t> owner = shellOwners(labels, voidLabel, frame, p.voxels, settings.shellDepth_mm);
-    // The targets mapped into the gamut the current integrator predicts.
-    auto mapIntoGamut = [&](RGB& black, RGB& white) {
+    // The targets mapped into the gamut that integrator predicts.
+    auto mapIntoGamut = [&](const std::string& integrator, RGB& black, RGB& white) {
         std::vector<RGB> mapped = targets;
         if (!settings.gamutMap) return mapped;
+        const std::string current = predictor.settings().integrator;
+        predictor.settings().integrator = integrator;
         // Calibration: the shell all black, then all white; then the labels as given again.
         // One sample per voxel: the mean over all surface voxels is precise.
         auto meanWith = [&](Label l) {
@@ -189,11 +200,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         };
         black = meanWith(kBlackLabel);
         white = meanWith(kWhiteLabel);
+        predictor.settings().integrator = current;
         for (RGB& t : mapped)
             for (int c = 0; c < 3; ++c) t[c] = black[c] + std::clamp(t[c], 0.0f, 1.0f) * (white[c] - black[c]);
         return mapped;
     };
-    const std::vector<RGB> mapped = mapIntoGamut(result.gamutBlack, result.gamutWhite);
+    const std::vector<RGB> mapped = mapIntoGamut(monteCarlo, result.gamutBlack, result.gamutWhite);
     const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
     // Surface voxels by position, for smoothing.
     DenseIndex at{frame.resolution};
@@ -204,11 +216,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     };
     const std::vector<RGB> scoredTarget = smooth(mapped, settings.scoreRadius);
 
-    // The first iteration's prediction again with the fast predictor.
-    if (fastFirst) {
-        predictor.settings().integrator = settings.fastPredictor;
-        p = predictor.predict();
-    }
     std::vector<RGB> requested = targets;
     double previousScore = 0;
     for (int iteration = 0;; ++iteration) {
@@ -218,9 +225,11 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         it.predictor = predictor.settings().integrator;
         scoreInto(smooth(predicted, settings.scoreRadius), scoredTarget, it.meanDeltaE, it.p95DeltaE);
         scoreInto(predicted, mapped, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel);
-        // Past the fast predictor's use: its score has stopped falling.
+        // Past the fast predictor's use: its score has stopped falling (or
+        // the last prediction is next: it is Monte Carlo's).
         const bool switchNow = fastFirst && predictor.settings().integrator == settings.fastPredictor &&
-                               iteration > 0 && previousScore - it.meanDeltaE < settings.switchBelowDeltaE;
+                               ((iteration > 0 && previousScore - it.meanDeltaE < settings.switchBelowDeltaE) ||
+                                iteration + 1 == settings.iterations);
         previousScore = it.meanDeltaE;
         if (iteration == settings.iterations) {
             result.finalPredicted = smooth(predicted, settings.scoreRadius);
@@ -256,12 +265,10 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         if (switchNow) predictor.settings().integrator = monteCarlo;
         p = predictor.predict();
     }
-    predictor.settings().seed = baseSeed;
-    predictor.settings().integrator = monteCarlo;
     if (settings.judgeSpp > 0) {
         // The judge: what gets printed, rendered apart from the loop.
-        const RenderSettings loop = predictor.settings();
-        predictor.settings().integrator = settings.judgeIntegrator;
+        const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
+        predictor.settings().integrator = judge;
         predictor.settings().spp = settings.judgeSpp;
         predictor.settings().seed = settings.judgeSeed;
         const auto j0 = Clock::now();
@@ -269,11 +276,10 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         // Against the targets mapped by the judge's own calibration: the
         // same whatever predicted.
         RGB black, white;
-        const std::vector<RGB> judgeTargets = mapIntoGamut(black, white);
-        predictor.settings() = loop;
+        const std::vector<RGB> judgeTargets = mapIntoGamut(judge, black, white);
         const SurfaceColourError e =
             surfaceColourError(points_mm, reflectance(judged, environment), judgeTargets);
-        result.judgement = OptimizeJudgement{settings.judgeIntegrator, settings.judgeSpp, settings.judgeSeed, e.mean,
+        result.judgement = OptimizeJudgement{judge, settings.judgeSpp, settings.judgeSeed, e.mean,
                                              e.p95, e.meanFiltered, e.p95Filtered,
                                              std::chrono::duration<double>(Clock::now() - j0).count()};
     }

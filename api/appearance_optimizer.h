@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "api/predictor.h"
+#include "compare/surface_colour_error.h"
 
 namespace pl {
 
@@ -34,9 +35,11 @@ struct OptimizeSettings {
     float step = 0.5f;
     int smoothRadius = 1;
     // > 0: the error is averaged instead with a Gaussian of this sigma on
-    // the surface (e.g. the eye's footprint, kEyeFootprint_mm): detail finer
-    // than the eye sees is left alone, and so is most of the noise.
-    float updateFootprint_mm = 0;
+    // the surface, by default the eye's footprint: detail finer than the
+    // eye sees is left alone, and so is most of the noise (on the greek
+    // cube the judged error over the footprint fell from 12.8 to 4.8;
+    // docs/api.md).
+    float updateFootprint_mm = kEyeFootprint_mm;
     // Colours are compared after averaging prediction and target over the
     // surface voxels within this many voxels (0: per voxel). Per voxel, the
     // Monte Carlo noise of a few samples dominates CIEDE2000.
@@ -50,9 +53,11 @@ struct OptimizeSettings {
     std::string fastPredictor;
     double switchBelowDeltaE = 0.25;
     // The judge: the final labels rendered independently (this integrator,
-    // spp and seed) and scored against the mapped targets per voxel and
-    // over the eye's footprint (compare/surface_colour_error.h). 0 spp: none.
-    std::string judgeIntegrator = "lighttrace";
+    // empty: the predictor's settings'; spp and seed) and scored against
+    // the targets mapped by its own calibration, per voxel and over the
+    // eye's footprint (compare/surface_colour_error.h). 0 spp: none. The
+    // predictor must have loaded what the judge needs (Predictor's alsoNeeds).
+    std::string judgeIntegrator;
     uint32_t judgeSpp = 0;
     uint64_t judgeSeed = 99;
 };
@@ -87,7 +92,7 @@ struct OptimizeResult {
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends
-// holding the final labels. onIteration is called after each prediction.
+// holding the final labels, its settings as they were. onIteration is called after each prediction.
 OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& targets,
                                   const OptimizeSettings& settings,
                                   const std::function<void(const OptimizeIteration&)>& onIteration);

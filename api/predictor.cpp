@@ -19,11 +19,12 @@ struct Predictor::State {
     std::unique_ptr<SurfaceVoxelSensor> sensor;
 };
 
-Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings)
+Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings, SceneNeeds alsoNeeds)
     : state_(std::make_unique<State>()), settings_(settings) {
     if (desc.sensor.type != "surface_voxels")
         throw InputError(desc.sceneFile.string(), "the prediction API needs the surface_voxels sensor");
     SceneNeeds needs = sceneNeedsOf(settings);
+    needs |= alsoNeeds;
     state_->scene = loadScene(desc, needs);
     // The render command's sensor checks (mesh and grid match, memory).
     state_->surfaceVoxels = labels().surfaceVoxels();

@@ -42,7 +42,9 @@ class Predictor {
 public:
     // Loads the scene's mesh, materials and labels (sensor must be
     // surface_voxels); `settings` chooses estimator, spp, seed and channels.
-    Predictor(const SceneDescription& scene, const RenderSettings& settings);
+    // alsoNeeds: what other estimators the caller will switch to need
+    // (an optimisation loop's judge).
+    Predictor(const SceneDescription& scene, const RenderSettings& settings, SceneNeeds alsoNeeds = {});
     static std::unique_ptr<Predictor> fromSceneFile(const std::filesystem::path& sceneFile);
     ~Predictor();
 

@@ -35,6 +35,15 @@ private:
     tbb::global_control control_;
 };
 
+// Sets the estimator an option names, or says why it cannot run.
+inline void chooseIntegrator(RenderSettings& r, const std::string& name, const std::string& option) {
+    const IntegratorKind* kind = findIntegratorKind(name);
+    if (!kind) throw UsageError(option + " must be " + integratorNames());
+    r.integrator = name;
+    if (std::string why = kind->refusal(r); !why.empty()) throw UsageError(why);
+    if (kind->deterministic) r.spp = 1;
+}
+
 // Applies those of the render overrides the command line holds (a command
 // that does not accept one never has it).
 inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
@@ -50,12 +59,7 @@ inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
         if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
         r.channelSampling = *sampling;
     }
-    if (auto in = args.value("--integrator")) {
-        const IntegratorKind* kind = findIntegratorKind(*in);
-        if (!kind) throw UsageError("--integrator must be " + integratorNames());
-        r.integrator = *in;
-        if (std::string why = kind->refusal(r); !why.empty()) throw UsageError(why);
-    }
+    if (auto in = args.value("--integrator")) chooseIntegrator(r, *in, "--integrator");
     // One sample of a deterministic estimator says all (scene/render.cpp).
     if (const IntegratorKind* kind = findIntegratorKind(r.integrator); kind && kind->deterministic) r.spp = 1;
 }

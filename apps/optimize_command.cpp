@@ -85,8 +85,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--judge-spp", "N", "render the final labels apart (the scene file's estimator, N spp) and score them"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
                     {"--update-footprint-mm", "S",
-                     "average each iteration's error with a Gaussian of this sigma on the surface (e.g. 0.2, the eye's) "
-                     "instead of over neighbouring voxels"},
+                     "average each iteration's error with a Gaussian of this sigma on the surface (default 0.2, the "
+                     "eye's footprint; 0: over the neighbouring voxels)"},
                     kChannelSamplingOption,
                     {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
                     {"--no-gamut-map", "", "match the target as given, without mapping it into the printable gamut"},
@@ -106,19 +106,15 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!(os.shellDepth_mm >= 0 && os.shellDepth_mm <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
     }
     os.scoreRadius = int(args.integer("--score-radius", 0, 8).value_or(os.scoreRadius));
-    if (auto s = args.value("--update-footprint-mm")) {
-        os.updateFootprint_mm = float(std::atof(s->c_str()));
-        if (!(os.updateFootprint_mm > 0 && os.updateFootprint_mm <= 10))
-            throw UsageError("--update-footprint-mm must be in (0, 10]");
+    if (auto s = args.number("--update-footprint-mm")) {
+        if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
+        os.updateFootprint_mm = float(*s);
     }
     os.judgeSpp = uint32_t(args.integer("--judge-spp", 1, RenderSettings::kMostSpp).value_or(0));
     os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
     const std::string predictorName = args.value("--predictor").value_or("");
-    if (!predictorName.empty() && predictorName != "auto") {
-        if (args.has("--integrator")) throw UsageError("optimize takes --predictor or --integrator, not both");
-        if (!findIntegratorKind(predictorName))
-            throw UsageError("--predictor must be auto or an estimator: " + integratorNames());
-    }
+    if (!predictorName.empty() && args.has("--integrator"))
+        throw UsageError("optimize takes --predictor or --integrator, not both");
     ThreadLimit threadLimit(args);
 
     auto t0 = std::chrono::steady_clock::now();
@@ -134,19 +130,23 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         refuseToOverwriteInputs(out, inputs);
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
-    if (args.has("--integrator")) desc.render.volpath.reentry = false;  // surface prediction
+    if (args.has("--integrator") || args.has("--predictor")) desc.render.volpath.reentry = false;  // surface prediction
     // The judge renders with the scene file's own Monte Carlo estimator,
     // whatever predicts (a deterministic predictor cannot judge itself).
-    os.judgeIntegrator = desc.render.integrator == "diffusion" ? "volpath" : desc.render.integrator;
+    RenderSettings judge = desc.render;
+    if (integratorKindOf(judge).deterministic) chooseIntegrator(judge, "volpath", "the judge");
+    os.judgeIntegrator = judge.integrator;
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
-    if (predictorName == "auto") os.fastPredictor = "diffusion";
-    else if (!predictorName.empty()) {
-        desc.render.integrator = predictorName;
-        desc.render.volpath.reentry = false;
+    if (predictorName == "auto") {
+        os.fastPredictor = "diffusion";
+        RenderSettings fast = desc.render;
+        chooseIntegrator(fast, os.fastPredictor, "--predictor auto");
+    } else if (!predictorName.empty()) {
+        chooseIntegrator(desc.render, predictorName, "--predictor");
     }
     std::unique_ptr<Predictor> loaded;  // on every rank, or none (rank 0 says why)
-    runOnEveryRank([&] { loaded = std::make_unique<Predictor>(desc, desc.render); });
+    runOnEveryRank([&] { loaded = std::make_unique<Predictor>(desc, desc.render, sceneNeedsOf(judge)); });
     Predictor& predictor = *loaded;
     // Across MPI ranks every rank runs the loop on the same predictions
     // (each renders its share of them); rank 0 speaks and writes.

@@ -64,7 +64,7 @@ struct Element {
     Point3f p;
     float area_mm2 = 0;
     RGB sigmaT_perMm{0, 0, 0}, sigmaS_perMm{0, 0, 0};
-    std::array<uint8_t, kChannels> table{0, 0, 0};  // the multiple-scattering table per channel
+    std::array<uint16_t, kChannels> table{0, 0, 0};  // the multiple-scattering table per channel
 };
 
 // Elements grouped by space (median splits along the widest axis), each
@@ -180,8 +180,11 @@ private:
 Diffusion::~Diffusion() = default;
 
 Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
+    // The sum over the surface needs all of it: the sensor's patches if it
+    // has every surface voxel's, else the grid's own.
     surface_ = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
-    if (!surface_ || !surface_->patches()) {
+    if (!surface_ || !surface_->patches() ||
+        surface_->pixelCount() != scene.medium->grid().surfaceVoxels().size()) {
         ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(),
                                                            scene.medium->grid().surfaceVoxels(),
                                                            SurfaceVoxelSensor::Footprint::Patch);
@@ -197,7 +200,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
     for (int c = 0; c < kChannels; ++c)
         for (int l = 0; l < 256; ++l)
             mostSigmaS = std::max(mostSigmaS, medium.lut(c).sigmaT_perMm[l] * medium.lut(c).albedo[l]);
-    std::array<std::array<uint8_t, 256>, kChannels> tableOfLabel{};
+    std::array<std::array<uint16_t, 256>, kChannels> tableOfLabel{};
     for (int c = 0; c < kChannels; ++c)
         for (int l = 0; l < 256; ++l) {
             const ChannelLut& lut = medium.lut(c);
@@ -207,7 +210,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
                 tables.push_back({lut.g[l], sharedTable<SingleScatteringDepthTable>(lut.g[l], scene.ior), nullptr});
                 same = tables.end() - 1;
             }
-            tableOfLabel[c][l] = uint8_t(same - tables.begin());
+            tableOfLabel[c][l] = uint16_t(same - tables.begin());
             // Resins that hardly scatter (clear) bring no diffusion.
             if (lut.sigmaT_perMm[l] * lut.albedo[l] > 1e-3f * mostSigmaS && !same->multiple)
                 same->multiple = sharedTable<BeamDiffusionTable>(lut.g[l], scene.ior);
@@ -217,6 +220,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
     std::vector<Element> elements(n);
     single_.assign(n, RGB{0, 0, 0});
     multiple_.assign(n, RGB{0, 0, 0});
+    if (tables.empty()) return;  // nothing in the object scatters
     const Vec3i gridLo = medium.frame().indexMin, gridHi = medium.frame().indexMax();
     parallelForTiles(n, 256, [&](size_t begin, size_t end) {
         LabelMedium::Sampler sampler(medium);
@@ -259,7 +263,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
                     const double tauNext = tau + double(lut.sigmaT_perMm[s.label]) * (s.z1 - s.z0);
                     single += lut.albedo[s.label] * (table.cumulative(tauNext) - table.cumulative(tau));
                     tau = tauNext;
-                    if (tau > SingleScatteringDepthTable::kMaxDepth) break;
+                    if (tau > SingleScatteringDepthTable::kMaxOpticalDepth) break;
                 }
                 single_[i][c] = float(single);
                 // The effective medium: the coefficients weighted by
@@ -286,7 +290,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
                 for (size_t t = 0; t < tables.size(); ++t)
                     if (tables[t].multiple && std::abs(float(tables[t].g) - g) < nearest) {
                         nearest = std::abs(float(tables[t].g) - g);
-                        e.table[c] = uint8_t(t);
+                        e.table[c] = uint16_t(t);
                     }
             }
         }
@@ -308,7 +312,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
                 }
             };
             // Its own patch: the profile over a disc of its area.
-            const float ownRadius_mm = std::sqrt(e.area_mm2 / 3.14159265f);
+            const float ownRadius_mm = std::sqrt(e.area_mm2 / kPi);
             for (int c = 0; c < kChannels; ++c) {
                 const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
                 if (table && e.sigmaT_perMm[c] > 0)

@@ -8,7 +8,7 @@
 //    the surface around the voxel (a cluster tree: far clusters count as
 //    one point), each pair of surface points in the medium averaged from
 //    their columns' effective media (the labels' coefficients weighted
-//    over a diffusion length).
+//    by e^{-z / 0.1 mm}: the layer the light enters and leaves by).
 // A ray reads the value of the surface voxel it hits, after Fresnel, plus
 // the surroundings' mirror reflection. The sample's sharedError is the
 // predictor's bias bound (its error is bias, not noise).

@@ -125,7 +125,7 @@ constexpr double kFirstRadius = 2.5e-3, kRadiusStep = 1.2;
 constexpr double kAlbedoSpread = 8.0;
 }  // namespace
 
-BeamDiffusionTable::BeamDiffusionTable(double g, double ior, Parts parts) : g_(g) {
+BeamDiffusionTable::BeamDiffusionTable(double g, double ior, Parts parts) {
     for (int i = 0; i < kTableAlbedos; ++i)
         albedos_.push_back((1.0 - std::exp(-kAlbedoSpread * i / (kTableAlbedos - 1))) / (1.0 - std::exp(-kAlbedoSpread)));
     radii_.push_back(0.0);
@@ -142,15 +142,6 @@ BeamDiffusionTable::BeamDiffusionTable(double g, double ior, Parts parts) : g_(g
             const double single = parts == Parts::SingleAndMultiple ? d.singleScattering_perMm2(r) : 0.0;
             ringValues_[a * radii_.size() + i] = 2.0 * kPi * r * (single + d.multipleScattering_perMm2(r));
         }
-        if (parts == Parts::MultipleMatchedToHalfSpace && albedos_[a] > 0) {
-            double multiple = 0;
-            for (size_t i = 2; i < radii_.size(); ++i)
-                multiple += 0.5 * (ringValues_[a * radii_.size() + i - 1] + ringValues_[a * radii_.size() + i]) *
-                            (radii_[i] - radii_[i - 1]);
-            const double wanted = slabEscape(medium).top - d.singleScatteringTotal();
-            if (multiple > 0 && wanted > 0)
-                for (size_t i = 1; i < radii_.size(); ++i) ringValues_[a * radii_.size() + i] *= wanted / multiple;
-        }
         // The total over the radii, each step taken as an exponential (the
         // ring value is finite at 0).
         ringValues_[a * radii_.size()] = ringValues_[a * radii_.size() + 1];
@@ -160,6 +151,15 @@ BeamDiffusionTable::BeamDiffusionTable(double g, double ior, Parts parts) : g_(g
             const double step = radii_[i] - radii_[i - 1];
             totals_[a] += v0 > 0 && v1 > 0 && v0 != v1 ? (v1 - v0) * step / std::log(v1 / v0) : 0.5 * (v0 + v1) * step;
             withinRadius_.push_back(totals_[a]);
+        }
+        if (parts == Parts::MultipleMatchedToHalfSpace && albedos_[a] > 0 && totals_[a] > 0) {
+            const double wanted = slabEscape(medium).top - d.singleScatteringTotal();
+            const double scale = std::max(0.0, wanted) / totals_[a];
+            for (size_t i = 0; i < radii_.size(); ++i) {
+                ringValues_[a * radii_.size() + i] *= scale;
+                withinRadius_[a * radii_.size() + i] *= scale;
+            }
+            totals_[a] *= scale;
         }
     }
     for (double v : ringValues_) logRingValues_.push_back(v > 0 ? float(std::log(v)) : -HUGE_VALF);
@@ -188,9 +188,9 @@ std::pair<int, float> BeamDiffusionTable::albedoKnot(double albedo) const {
 std::pair<int, float> BeamDiffusionTable::radiusKnot(double r) const {
     static const float kInverseLogStep = float(1.0 / std::log(kRadiusStep));
     if (r < kFirstRadius) return {0, float(r / kFirstRadius)};
-    const float x = 1.0f + std::log(float(r / kFirstRadius)) * kInverseLogStep;
-    const int i = std::min(int(x), kTableRadii - 2);
-    return {i, x - float(i)};
+    // The knot below from the logarithm; the weight linear in r.
+    const int i = std::min(int(1.0f + std::log(float(r / kFirstRadius)) * kInverseLogStep), kTableRadii - 2);
+    return {i, float((r - radii_[size_t(i)]) / (radii_[size_t(i) + 1] - radii_[size_t(i)]))};
 }
 
 double BeamDiffusionTable::profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const {
@@ -254,7 +254,7 @@ double BeamDiffusionTable::total(double albedo) const {
 }
 
 namespace {
-constexpr int kDepthSteps = 3000;  // over [0, kMaxDepth]: steps of 0.01
+constexpr int kDepthSteps = 3000;  // over [0, kMaxOpticalDepth]: steps of 0.01
 }
 
 SingleScatteringDepthTable::SingleScatteringDepthTable(double g, double ior) {
@@ -263,7 +263,7 @@ SingleScatteringDepthTable::SingleScatteringDepthTable(double g, double ior) {
     // e^{-tau / mu} (out) in closed form.
     const double muC = criticalCosine(ior);
     for (int k = 0; k <= kDepthSteps; ++k) {
-        const double tau = kMaxDepth * k / kDepthSteps;
+        const double tau = kMaxOpticalDepth * k / kDepthSteps;
         values_.push_back(2.0 * kPi * integrateAboveKink(muC, [&](double mu) {
                               return hgPhase(-mu, g) * (1.0 - fresnelFromInside(mu, ior)) * mu / (1.0 + mu) *
                                      (1.0 - std::exp(-tau * (1.0 + mu) / mu));
@@ -272,7 +272,7 @@ SingleScatteringDepthTable::SingleScatteringDepthTable(double g, double ior) {
 }
 
 double SingleScatteringDepthTable::cumulative(double tau) const {
-    const double x = tau / kMaxDepth * kDepthSteps;
+    const double x = tau / kMaxOpticalDepth * kDepthSteps;
     if (!(x < kDepthSteps)) return values_.back();
     if (!(x > 0.0)) return 0.0;
     const int i = int(x);

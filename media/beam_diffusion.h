@@ -60,13 +60,13 @@ private:
 // radii, as pbrt-v3 does, for fast lookups: 2 pi r R(r) at 100 albedos
 // (denser near 1) and 64 radii (0, then from 2.5e-3 mean free paths in
 // steps of 1.2x), interpolated linearly across albedos and exponentially
-// along r; one table per (g, ior). R is R_ss + R_ms, or R_ms alone for a
-// predictor that takes single scattering elsewhere, or R_ms scaled per
-// albedo so that with exact single scattering its total is the exact
-// half-space's (slab_transport.h): PBD's shape, the right amount.
+// along r; one table per (g, ior). R is R_ss + R_ms, or, for a predictor
+// that takes single scattering elsewhere, R_ms scaled per albedo so that
+// with exact single scattering its total is the exact half-space's
+// (slab_transport.h): PBD's shape, the right amount.
 class BeamDiffusionTable {
 public:
-    enum class Parts { SingleAndMultiple, MultipleOnly, MultipleMatchedToHalfSpace };
+    enum class Parts { SingleAndMultiple, MultipleMatchedToHalfSpace };
     BeamDiffusionTable(double g, double ior, Parts parts = Parts::SingleAndMultiple);
     // The profile at r_mm in a medium of that albedo and extinction, per
     // mm^2 (0 beyond the table's last radius).
@@ -80,7 +80,6 @@ public:
     // plus spread / 4 times its Laplacian in the plane (second order; the
     // profile is convex, its value alone would read a spread source low).
     double spreadProfile_perMm2(double albedo, double sigmaT_perMm, double r_mm, double spread_mm2) const;
-    double g() const { return g_; }
 
 private:
     // Where an albedo or an optical radius falls among the knots: the
@@ -88,7 +87,6 @@ private:
     // knots are regular in a transform of the value).
     std::pair<int, float> albedoKnot(double albedo) const;
     std::pair<int, float> radiusKnot(double r) const;
-    double g_;
     std::vector<double> albedos_, radii_;
     std::vector<double> ringValues_;  // 2 pi r R(r) per (albedo, radius), optical units
     std::vector<float> logRingValues_;
@@ -111,10 +109,10 @@ public:
     double cumulative(double tau) const;
     // cumulative at infinite depth.
     double total() const { return values_.back(); }
-    static constexpr double kMaxDepth = 30.0;  // beyond it e^-tau is below 1e-13
+    static constexpr double kMaxOpticalDepth = 30.0;  // beyond it e^-tau is below 1e-13
 
 private:
-    std::vector<double> values_;  // at regular depths over [0, kMaxDepth]
+    std::vector<double> values_;  // at regular depths over [0, kMaxOpticalDepth]
 };
 
 }  // namespace pl

@@ -46,19 +46,54 @@ RenderResult renderDiffusion(const Scene& scene, const Sensor& sensor) {
     return render(scene, sensor, s);
 }
 
-TEST(Diffusion, SingleScatteringDepthTableGivesTheHalfSpaceTotal) {
+// The depth table against the deterministic solver: at albedo 1e-4 a
+// slab of optical thickness tau brings out single scattering alone (the
+// rest is 1e-4 of it), and without a boundary (ior 1) nothing comes back
+// from the bottom face, so top / albedo is cumulative(tau).
+TEST(Diffusion, SingleScatteringDepthTableMatchesTheSlabSolver) {
     for (double g : {0.0, 0.4, 0.8}) {
-        const SingleScatteringDepthTable table(g, kIor);
-        for (double albedo : {0.3, 0.9, 0.995}) {
-            const BeamDiffusion exact({albedo, g, kIor}, 1.0);
-            EXPECT_NEAR(albedo * table.total(), exact.singleScatteringTotal(), 1e-4 * exact.singleScatteringTotal())
-                << "g " << g << " albedo " << albedo;
+        const SingleScatteringDepthTable table(g, 1.0);
+        for (double tau : {0.1, 0.5, 2.0, 8.0}) {
+            const double solved = slabEscape({1e-4, g, 1.0, tau}).top / 1e-4;
+            EXPECT_NEAR(table.cumulative(tau), solved, 2e-3 * solved) << "g " << g << " tau " << tau;
         }
-        // Layers add up: [0, 1] and [1, inf) give the whole.
-        EXPECT_NEAR(table.cumulative(1.0) + (table.total() - table.cumulative(1.0)), table.total(), 1e-12);
-        EXPECT_LT(table.cumulative(0.5), table.cumulative(1.0));
-        EXPECT_EQ(table.cumulative(0.0), 0.0);
+        // And with the boundary, its depth integral is PBD's rho_ss.
+        const SingleScatteringDepthTable withBoundary(g, kIor);
+        const BeamDiffusion beam({0.9, g, kIor}, 1.0);
+        EXPECT_NEAR(0.9 * withBoundary.total(), beam.singleScatteringTotal(), 1e-4 * beam.singleScatteringTotal());
     }
+}
+
+// The multiple-scattering table: over the plane it gives the exact
+// half-space minus single scattering; the disc integral reaches it; and a
+// source spread over a square reads as the square's mean of the profile
+// (brute force), whatever the extinction (the sigma^2 and sigma^4 scalings).
+TEST(Diffusion, MatchedProfileTableIntegratesAndSpreadsRight) {
+    const BeamDiffusionTable table(0.4, kIor, BeamDiffusionTable::Parts::MultipleMatchedToHalfSpace);
+    for (double albedo : {0.5, 0.9, 0.995}) {
+        const double single = BeamDiffusion({albedo, 0.4, kIor}, 1.0).singleScatteringTotal();
+        const double exact = slabEscape({albedo, 0.4, kIor}).top;
+        // Matched at the knots; between them, interpolated across albedo.
+        EXPECT_NEAR(table.total(albedo) + single, exact, 5e-3 * exact) << albedo;
+        EXPECT_NEAR(table.withinRadius(albedo, 6.0, 1e3), table.total(albedo), 1e-9);
+        EXPECT_LT(table.withinRadius(albedo, 6.0, 0.1), table.withinRadius(albedo, 6.0, 0.2));
+    }
+    for (double sigmaT : {6.0, 24.0})
+        for (double r_optical : {0.5, 2.0}) {
+            const double r_mm = r_optical / sigmaT, side_mm = 0.5 * r_mm;
+            double mean = 0;
+            const int n = 64;
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    const double x = r_mm + ((i + 0.5) / n - 0.5) * side_mm, y = ((j + 0.5) / n - 0.5) * side_mm;
+                    mean += table.profile_perMm2(0.9, sigmaT, std::hypot(x, y)) / (n * n);
+                }
+            const double spread = table.spreadProfile_perMm2(0.9, sigmaT, r_mm, side_mm * side_mm / 6.0);
+            const double point = table.profile_perMm2(0.9, sigmaT, r_mm);
+            // The second-order correction takes most of the way from the
+            // centre's value to the square's mean.
+            EXPECT_LT(std::abs(spread - mean), 0.35 * std::abs(point - mean)) << sigmaT << " " << r_optical;
+        }
 }
 
 // On the flat face of a thick block the predictor must give the exact
