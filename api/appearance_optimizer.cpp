@@ -207,6 +207,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     };
     const std::vector<RGB> mapped = mapIntoGamut(monteCarlo, result.gamutBlack, result.gamutWhite);
     const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
+    std::optional<SurfaceGaussian> updateFilter;
+    if (settings.updateFootprint_mm > 0) updateFilter.emplace(points_mm, settings.updateFootprint_mm);
     // Surface voxels by position, for smoothing.
     DenseIndex at{frame.resolution};
     std::vector<int32_t> surfaceAt(labels.size(), -1);
@@ -247,8 +249,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         std::vector<RGB> error(predicted.size());
         for (size_t i = 0; i < error.size(); ++i)
             for (int c = 0; c < 3; ++c) error[i][c] = mapped[i][c] - predicted[i][c];
-        error = settings.updateFootprint_mm > 0 ? gaussianOnSurface(points_mm, error, settings.updateFootprint_mm)
-                                                : smooth(error, settings.smoothRadius);
+        error = updateFilter ? updateFilter->apply(error) : smooth(error, settings.smoothRadius);
         for (size_t s = 0; s < requested.size(); ++s)
             for (int c = 0; c < 3; ++c)
                 requested[s][c] = std::clamp(requested[s][c] + settings.step * error[s][c], 0.0f, 1.0f);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/rgb.h"
+#include "compare/surface_gaussian.h"
 #include "core/vecmath.h"
 
 namespace pl {
@@ -29,10 +30,5 @@ SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, con
 // A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
 // 5, red 10 and above.
 RGB deltaEColour(float deltaE);
-
-// values averaged with weights exp(-d^2 / (2 sigma^2)) over the points
-// within 3 sigma of each point.
-std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
-                                   float sigma_mm);
 
 }  // namespace pl

@@ -2,7 +2,11 @@
 // sRGB to L*a*b* conversion against known points.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "compare/color_difference.h"
+#include "compare/surface_colour_error.h"
+#include "compare/surface_gaussian.h"
 
 namespace pl {
 namespace {
@@ -46,3 +50,41 @@ TEST(ColorDifference, LinearSrgbToLab) {
 
 }  // namespace
 }  // namespace pl
+
+namespace pl {
+namespace {
+
+// The surface filter on a flat grid of points 0.045 mm apart (no point
+// exactly at the 3 sigma cut-off, where round-off would pick a side): a constant
+// stays constant, a linear ramp stays itself away from the border (the
+// weights are symmetric), and a spike spreads with the Gaussian's weights.
+TEST(SurfaceGaussian, KeepsConstantsAndRampsAndSpreadsASpike) {
+    std::vector<Point3f> points;
+    std::vector<RGB> constant, ramp, spike;
+    const int n = 60;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            points.push_back({0.045f * i, 0.045f * j, 1.0f});
+            constant.push_back({0.3f, 0.3f, 0.3f});
+            ramp.push_back({0.045f * i, 0.045f * j, 0});
+            spike.push_back({i == 30 && j == 30 ? 1.0f : 0.0f, 0, 0});
+        }
+    const SurfaceGaussian filter(points, 0.2f);
+    const auto c = filter.apply(constant), r = filter.apply(ramp), s = filter.apply(spike);
+    for (size_t k = 0; k < points.size(); ++k) EXPECT_NEAR(c[k][0], 0.3f, 1e-6f);
+    const size_t centre = 30 * n + 30;
+    EXPECT_NEAR(r[centre][0], ramp[centre][0], 1e-5f);
+    EXPECT_NEAR(r[centre][1], ramp[centre][1], 1e-5f);
+    // The spike's share at its centre: 1 / (sum of the weights), about
+    // 1 / (2 pi (0.2 / 0.045)^2) on this lattice.
+    const double share = 1.0 / (2 * 3.14159265 * std::pow(0.2 / 0.045, 2));
+    EXPECT_NEAR(s[centre][0], share, 0.05 * share);
+    // And a colour error filtered over it: equal inputs, zero.
+    const SurfaceColourError e = surfaceColourError(points, ramp, ramp);
+    EXPECT_EQ(e.meanFiltered, 0.0);
+    EXPECT_EQ(e.mean, 0.0);
+}
+
+}  // namespace
+}  // namespace pl
+

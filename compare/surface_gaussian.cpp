@@ -1,0 +1,86 @@
+#include "compare/surface_gaussian.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "runtime/scheduler.h"
+
+namespace pl {
+
+namespace {
+uint64_t cellKey(const Vec3i& c) {
+    return (uint64_t(uint32_t(c.x) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y) & 0x1fffff) << 21) |
+           uint64_t(uint32_t(c.z) & 0x1fffff);
+}
+}  // namespace
+
+SurfaceGaussian::SurfaceGaussian(const std::vector<Point3f>& points_mm, float sigma_mm) : sigma_mm_(sigma_mm) {
+    const float cell_mm = 3.0f * sigma_mm;
+    auto cellOf = [&](const Point3f& p) {
+        return Vec3i{int(std::floor(p.x / cell_mm)), int(std::floor(p.y / cell_mm)), int(std::floor(p.z / cell_mm))};
+    };
+    std::vector<std::pair<uint64_t, uint32_t>> keyed(points_mm.size());
+    for (size_t i = 0; i < points_mm.size(); ++i) keyed[i] = {cellKey(cellOf(points_mm[i])), uint32_t(i)};
+    std::sort(keyed.begin(), keyed.end());
+    absl::flat_hash_map<uint64_t, int32_t> cellAt;
+    std::vector<Vec3i> cellCoords;
+    for (size_t k = 0; k < keyed.size(); ++k) {
+        const uint32_t i = keyed[k].second;
+        order_.push_back(i);
+        sorted_mm_.push_back(points_mm[i]);
+        if (k == 0 || keyed[k].first != keyed[k - 1].first) {
+            cellAt[keyed[k].first] = int32_t(cells_.size());
+            cells_.push_back({uint32_t(k), 0, {}});
+            cellCoords.push_back(cellOf(points_mm[i]));
+        }
+        ++cells_.back().count;
+    }
+    for (size_t c = 0; c < cells_.size(); ++c) {
+        int n = 0;
+        for (int dz = -1; dz <= 1; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const Vec3i& at = cellCoords[c];
+                    auto found = cellAt.find(cellKey({at.x + dx, at.y + dy, at.z + dz}));
+                    cells_[c].neighbours[size_t(n++)] = found == cellAt.end() ? -1 : found->second;
+                }
+    }
+}
+
+std::vector<RGB> SurfaceGaussian::apply(const std::vector<RGB>& values) const {
+    std::vector<RGB> sortedValues(values.size());
+    for (size_t k = 0; k < order_.size(); ++k) sortedValues[k] = values[order_[k]];
+    std::vector<RGB> out(values.size());
+    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
+    parallelForTiles(cells_.size(), 16, [&](size_t begin, size_t end) {
+        for (size_t c = begin; c < end; ++c) {
+            const Cell& cell = cells_[c];
+            for (uint32_t k = cell.first; k < cell.first + cell.count; ++k) {
+                const Point3f& x = sorted_mm_[k];
+                double sum[3] = {0, 0, 0}, weights = 0;
+                for (int32_t n : cell.neighbours) {
+                    if (n < 0) continue;
+                    const Cell& other = cells_[size_t(n)];
+                    for (uint32_t j = other.first; j < other.first + other.count; ++j) {
+                        const Vec3f d = sorted_mm_[j] - x;
+                        const float dSq = dot(d, d);
+                        if (dSq > reachSq) continue;
+                        const float w = std::exp(-dSq * inverseTwoSigmaSq);
+                        weights += w;
+                        for (int ch = 0; ch < 3; ++ch) sum[ch] += w * sortedValues[j][ch];
+                    }
+                }
+                for (int ch = 0; ch < 3; ++ch) out[order_[k]][ch] = float(sum[ch] / weights);
+            }
+        }
+    });
+    return out;
+}
+
+std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
+                                   float sigma_mm) {
+    if (!(sigma_mm > 0)) return values;
+    return SurfaceGaussian(points_mm, sigma_mm).apply(values);
+}
+
+}  // namespace pl

@@ -1,0 +1,43 @@
+// A Gaussian filter over surface points (3D distances between the surface
+// voxels' points): the eye's footprint for colour scores
+// (surface_colour_error.h) and the optimisation loop's update. Built once
+// for a set of points, applied to any values on them.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <absl/container/flat_hash_map.h>
+
+#include "core/rgb.h"
+#include "core/vecmath.h"
+
+namespace pl {
+
+class SurfaceGaussian {
+public:
+    SurfaceGaussian(const std::vector<Point3f>& points_mm, float sigma_mm);
+    // values averaged with weights exp(-d^2 / (2 sigma^2)) over the points
+    // within 3 sigma of each point (the same bits whatever the threads).
+    std::vector<RGB> apply(const std::vector<RGB>& values) const;
+
+private:
+    float sigma_mm_;
+    // Points binned in cells of 3 sigma, stored cell by cell: a point's
+    // neighbours lie in its cell and the 26 around it.
+    struct Cell {
+        uint32_t first, count;                // into order_ / sorted_
+        std::array<int32_t, 27> neighbours;  // cell indices, -1: empty
+    };
+    std::vector<uint32_t> order_;  // point index, cell by cell
+    std::vector<Point3f> sorted_mm_;
+    std::vector<Cell> cells_;
+};
+
+// One-off: SurfaceGaussian(points_mm, sigma_mm).apply(values); sigma 0
+// returns the values.
+std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
+                                   float sigma_mm);
+
+}  // namespace pl
