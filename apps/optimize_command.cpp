@@ -184,6 +184,10 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 os.scoreRadius, its.front().meanDeltaE, its.back().meanDeltaE,
                 100.0 * (1.0 - its.back().meanDeltaE / its.front().meanDeltaE), its.front().p95DeltaE,
                 its.back().p95DeltaE, its.front().meanDeltaEPerVoxel, its.back().meanDeltaEPerVoxel);
+    if (its.front().predictor != its.back().predictor)
+        std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
+                    "like with like)\n",
+                    its.front().predictor.c_str(), its.back().predictor.c_str());
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
     std::printf("the loop took %.1f s\n", loopSeconds);
