@@ -76,8 +76,8 @@ struct OptimizeJudgement {
     std::string integrator;
     uint32_t spp = 0;
     uint64_t seed = 0;
-    double mean = 0, p95 = 0;                  // CIEDE2000 per voxel
-    double meanFiltered = 0, p95Filtered = 0;  // over the eye's footprint
+    double meanDeltaE = 0, p95DeltaE = 0;                  // CIEDE2000 per voxel
+    double meanDeltaEFiltered = 0, p95DeltaEFiltered = 0;  // over the eye's footprint
     double seconds = 0;
 };
 

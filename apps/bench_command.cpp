@@ -504,6 +504,8 @@ int benchCommand(const std::vector<std::string>& argv) {
     // Self-variance: each render's film, kept until all are done for the
     // relative MSE (one denominator for all renders).
     std::vector<Film> selfFilms;
+    // Per configuration, its per-voxel CIEDE2000 on the atlas (surface sensor, reference).
+    std::vector<std::pair<std::string, RadianceImage>> errorMaps;
     for (const std::string& name : names) {
         RenderSettings s = chosen[name];
         s.spp = 1;
@@ -512,7 +514,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s, acrossRanks).seconds;  // calibration
         for (double budget : budgets) {
             if (fixedSpp && budget != budgets.front()) break;  // one render: the spp is fixed
-            s.spp = uint32_t(std::max(1.0, std::round(budget / perSpp)));
+            s.spp = integratorKindOf(s).deterministic ? 1u : uint32_t(std::max(1.0, std::round(budget / perSpp)));
             if (acrossRanks) s.spp = broadcastFromRankZero(s.spp);  // rank 0's clock decides
             if (fixedSpp) s.spp = selfSpp;
             if (self) s.spp = std::max(s.spp, selfSpp);
@@ -537,10 +539,9 @@ int benchCommand(const std::vector<std::string>& argv) {
                 withinTwoErrors = s.withinTwoErrors;
                 for (size_t k = 0; k < s.film.size(); ++k)
                     for (int c = 0; c < 3; ++c) bias[c] += (s.film[k][c] - s.reference[k][c]) / float(s.film.size());
-                // The last budget's per-voxel error, where it fails.
+                // The last budget's per-voxel error, where it fails (written with the tables).
                 if (budget == budgets.back())
-                    writePng(deltaEImage(colour->perVoxel, s.imageIndex, ref.width, ref.height),
-                             args.value("--out").value_or("bench") + "_" + name + "_deltaE.png");
+                    errorMaps.emplace_back(name, deltaEImage(colour->perVoxel, s.imageIndex, ref.width, ref.height));
                 colour->perVoxel.clear();
             }
             if (self) selfFilms.push_back(std::move(r.film));
@@ -625,6 +626,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     writeTextFile(prefix + ".md", md.str());
     writeTextFile(prefix + ".csv", csv.str());
     writeTextFile(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
+    for (const auto& [name, image] : errorMaps) writePng(image, prefix + "_" + name + "_deltaE.png");
     std::fputs(md.str().c_str(), stdout);
     return 0;
 }

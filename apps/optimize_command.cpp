@@ -194,8 +194,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (const auto& j = result.judgement)
         std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): mean CIEDE2000 %.3f, 95th percentile %.3f per voxel; "
                     "over the eye's %g mm footprint %.3f, 95th percentile %.3f\n",
-                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, j->mean, j->p95,
-                    kEyeFootprint_mm, j->meanFiltered, j->p95Filtered);
+                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, j->meanDeltaE, j->p95DeltaE,
+                    kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered);
     if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
     writeTextFile(csvFile, csv.str());
     LabelGrid final = predictor.labels().withChanges({});
