@@ -136,17 +136,9 @@ std::vector<RGB> smoothOverSurface(const std::vector<RGB>& values, const std::ve
 
 // Mean and 95th percentile of CIEDE2000 between two colour lists.
 void scoreInto(const std::vector<RGB>& predicted, const std::vector<RGB>& target, double& mean, double& p95) {
-    std::vector<double> de(predicted.size());
-    double sum = 0;
-    for (size_t i = 0; i < de.size(); ++i)
-        sum += de[i] = ciede2000(labFromLinearSrgb(predicted[i]), labFromLinearSrgb(target[i]));
-    mean = de.empty() ? 0 : sum / double(de.size());
-    p95 = 0;
-    if (!de.empty()) {
-        size_t k = std::min(de.size() - 1, size_t(std::ceil(0.95 * double(de.size()))) - 1);
-        std::nth_element(de.begin(), de.begin() + long(k), de.end());
-        p95 = de[k];
-    }
+    const DeltaEStats stats = deltaEStats(predicted, target);
+    mean = stats.mean;
+    p95 = stats.p95;
 }
 
 }  // namespace

@@ -10,14 +10,11 @@ namespace pl {
 
 namespace {
 
-struct Percentiles {
-    double mean, p95;
-};
-Percentiles meanAndP95(std::vector<float> values) {
+DeltaEStats meanAndP95(std::vector<float> values) {
     if (values.empty()) return {0, 0};
     double sum = 0;
     for (float v : values) sum += v;
-    const size_t k = std::min(values.size() - 1, size_t(0.95 * double(values.size())));
+    const size_t k = std::min(values.size() - 1, size_t(std::ceil(0.95 * double(values.size()))) - 1);
     std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
     return {sum / double(values.size()), values[k]};
 }
@@ -29,6 +26,8 @@ std::vector<float> deltaEs(const std::vector<RGB>& a, const std::vector<RGB>& b)
 }
 
 }  // namespace
+
+DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b) { return meanAndP95(deltaEs(a, b)); }
 
 RGB deltaEColour(float deltaE) {
     const RGB stops[] = {{0.02f, 0.05f, 0.6f}, {0.05f, 0.5f, 0.1f}, {0.9f, 0.8f, 0.05f}, {0.8f, 0.02f, 0.02f}};
@@ -48,11 +47,11 @@ SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, con
                                       const std::vector<RGB>& reference, float footprintSigma_mm) {
     SurfaceColourError e;
     e.perVoxel = deltaEs(predicted, reference);
-    const Percentiles raw = meanAndP95(e.perVoxel);
+    const DeltaEStats raw = meanAndP95(e.perVoxel);
     e.mean = raw.mean;
     e.p95 = raw.p95;
     const SurfaceGaussian footprint(points_mm, footprintSigma_mm);
-    const Percentiles filtered = meanAndP95(deltaEs(footprint.apply(predicted), footprint.apply(reference)));
+    const DeltaEStats filtered = meanAndP95(deltaEs(footprint.apply(predicted), footprint.apply(reference)));
     e.meanFiltered = filtered.mean;
     e.p95Filtered = filtered.p95;
     return e;

@@ -22,6 +22,13 @@ struct SurfaceColourError {
     std::vector<float> perVoxel;               // CIEDE2000 per voxel (unfiltered)
 };
 
+// Mean and 95th percentile (nearest rank) of the CIEDE2000 between two
+// lists of linear sRGB colours.
+struct DeltaEStats {
+    double mean = 0, p95 = 0;
+};
+DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b);
+
 // predicted, reference: reflectance (linear sRGB, white 1) per voxel, at
 // points_mm.
 SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
