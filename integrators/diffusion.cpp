@@ -28,7 +28,7 @@ constexpr float kOpening = 0.5f;
 constexpr size_t kLeafElements = 8;
 // The error the predictor reports (as sharedError: it is bias, common to
 // every sample), as a share of the multiple scattering it adds: chosen so
-// that 89 % of the greek cube's voxel channels lie within twice it of a
+// that 91 % of the greek cube's voxel channels lie within twice it of a
 // converged render (bench's "within 2 errors"; docs/diffusion.md). Single
 // scattering is exact up to the column's lateral uniformity.
 constexpr float kErrorShareOfMultipleScattering = 0.5f;
