@@ -268,6 +268,7 @@ struct SurfaceReflectances {
     std::vector<Point3f> points_mm;
     std::vector<RGB> film, reference;
     std::vector<int64_t> imageIndex;
+    RGB meanBias{0, 0, 0};  // of film - reference
     double withinTwoErrors = 0;
 };
 SurfaceReflectances surfaceReflectances(const Film& film, const SurfaceVoxelSensor& sensor, const RadianceImage& ref,
@@ -290,6 +291,8 @@ SurfaceReflectances surfaceReflectances(const Film& film, const SurfaceVoxelSens
             if (std::abs(double(film.mean(p, c)) - ref.mean[size_t(i)][c]) <= 2.0 * e) s.withinTwoErrors += 1;
         }
     }
+    for (size_t k = 0; k < s.film.size(); ++k)
+        for (int c = 0; c < 3; ++c) s.meanBias[c] += (s.film[k][c] - s.reference[k][c]) / float(s.film.size());
     if (!s.film.empty()) s.withinTwoErrors /= 3.0 * double(s.film.size());
     return s;
 }
@@ -537,8 +540,7 @@ int benchCommand(const std::vector<std::string>& argv) {
                 const SurfaceReflectances s = surfaceReflectances(r.film, *surface, ref, scene.environment);
                 colour = surfaceColourError(s.points_mm, s.film, s.reference);
                 withinTwoErrors = s.withinTwoErrors;
-                for (size_t k = 0; k < s.film.size(); ++k)
-                    for (int c = 0; c < 3; ++c) bias[c] += (s.film[k][c] - s.reference[k][c]) / float(s.film.size());
+                bias = s.meanBias;
                 // The last budget's per-voxel error, where it fails (written with the tables).
                 if (budget == budgets.back())
                     errorMaps.emplace_back(name, deltaEImage(colour->perVoxel, s.imageIndex, ref.width, ref.height));

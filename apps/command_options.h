@@ -59,9 +59,9 @@ inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
         if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
         r.channelSampling = *sampling;
     }
-    if (auto in = args.value("--integrator")) chooseIntegrator(r, *in, "--integrator");
-    // One sample of a deterministic estimator says all (scene/render.cpp).
-    if (const IntegratorKind* kind = findIntegratorKind(r.integrator); kind && kind->deterministic) r.spp = 1;
+    // The scene's estimator unless the command line names one: checked,
+    // and one sample if it is deterministic.
+    chooseIntegrator(r, args.value("--integrator").value_or(r.integrator), "--integrator");
 }
 
 }  // namespace pl

@@ -183,10 +183,10 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
     // The sum over the surface needs all of it: the sensor's patches if it
     // has every surface voxel's, else the grid's own.
     surface_ = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
-    if (!surface_ || !surface_->patches() ||
-        surface_->pixelCount() != scene.medium->grid().surfaceVoxels().size()) {
-        ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(),
-                                                           scene.medium->grid().surfaceVoxels(),
+    if (!surface_ || !surface_->patches()) surface_ = nullptr;
+    const std::vector<SurfaceVoxel> surfaceVoxels = scene.medium->grid().surfaceVoxels();
+    if (!surface_ || surface_->pixelCount() != surfaceVoxels.size()) {
+        ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels,
                                                            SurfaceVoxelSensor::Footprint::Patch);
         surface_ = ownSurface_.get();
     }
@@ -227,6 +227,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
         struct Segment {
             Label label;
             float z0, z1;
+            double weight;  // in the effective medium: e^{-z / kSurfaceLayer_mm} over the segment
         };
         std::vector<Segment> column;
         for (size_t i = begin; i < end; ++i) {
@@ -252,7 +253,18 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
             column.clear();
             GridDda dda(cells.o, cells.d, 0.0f, depth_mm, gridLo, gridHi);
             DdaSegment segment;
-            while (dda.next(segment)) column.push_back({sampler.labelAt(segment.cell), segment.t0, segment.t1});
+            while (dda.next(segment)) column.push_back({sampler.labelAt(segment.cell), segment.t0, segment.t1, 0.0});
+            // The effective medium's weights, the same in every channel; past
+            // the first segment below e^{-z / kSurfaceLayer_mm} = 1e-3 the rest
+            // weighs less than 0.1 %.
+            size_t weighted = 0;
+            float above = column.empty() ? 0.0f : std::exp(-column.front().z0 / kSurfaceLayer_mm);
+            while (weighted < column.size()) {
+                const float below = std::exp(-column[weighted].z1 / kSurfaceLayer_mm);
+                column[weighted++].weight = above - below;
+                above = below;
+                if (below < 1e-3f) break;
+            }
 
             for (int c = 0; c < kChannels; ++c) {
                 const ChannelLut& lut = medium.lut(c);
@@ -269,17 +281,13 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
                 // The effective medium: the coefficients weighted by
                 // e^{-z / kSurfaceLayer_mm} down the column.
                 double w = 0, wt = 0, ws = 0, wg = 0;
-                float above = column.empty() ? 0.0f : std::exp(-column.front().z0 / kSurfaceLayer_mm);
-                for (const Segment& s : column) {
-                    const float below = std::exp(-s.z1 / kSurfaceLayer_mm);
-                    const double weight = above - below;
-                    above = below;
+                for (size_t k = 0; k < weighted; ++k) {
+                    const Segment& s = column[k];
                     const double st = lut.sigmaT_perMm[s.label], ss = st * lut.albedo[s.label];
-                    w += weight;
-                    wt += weight * st;
-                    ws += weight * ss;
-                    wg += weight * ss * lut.g[s.label];
-                    if (below < 1e-3f) break;  // the rest weighs less than 0.1 %
+                    w += s.weight;
+                    wt += s.weight * st;
+                    ws += s.weight * ss;
+                    wg += s.weight * ss * lut.g[s.label];
                 }
                 const float sigmaT = w > 0 ? float(wt / w) : 0.0f, sigmaS = w > 0 ? float(ws / w) : 0.0f;
                 const float g = ws > 0 ? float(wg / ws) : 0.0f;

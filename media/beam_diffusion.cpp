@@ -193,21 +193,22 @@ std::pair<int, float> BeamDiffusionTable::radiusKnot(double r) const {
     return {i, float((r - radii_[size_t(i)]) / (radii_[size_t(i) + 1] - radii_[size_t(i)]))};
 }
 
+double BeamDiffusionTable::ringAt(size_t k, float wr) const {
+    // Along r as an exponential (single scattering falls by e^-2 per mean
+    // free path: linear steps of 1.2x would read it 20 % high).
+    const float l0 = logRingValues_[k], l1 = logRingValues_[k + 1];
+    if (l0 > -HUGE_VALF && l1 > -HUGE_VALF) return double(std::exp(l0 + wr * (l1 - l0)));
+    return (1 - wr) * ringValues_[k] + wr * ringValues_[k + 1];
+}
+
 double BeamDiffusionTable::profile_perMm2(double albedo, double sigmaT_perMm, double r_mm) const {
     const double r = r_mm * sigmaT_perMm;  // optical units
     if (!(r < radii_.back()) || !(r > 0.0)) return 0.0;
     const auto [a, wa] = albedoKnot(albedo);
     const auto [i, wr] = radiusKnot(r);
-    // Along r as an exponential (single scattering falls by e^-2 per mean
-    // free path: linear steps of 1.2x would read it 20 % high), across
-    // albedos linearly.
-    auto alongRadius = [&, i = i, wr = wr](int ai) {
-        const size_t k = size_t(ai) * kTableRadii + size_t(i);
-        const float l0 = logRingValues_[k], l1 = logRingValues_[k + 1];
-        if (l0 > -HUGE_VALF && l1 > -HUGE_VALF) return double(std::exp(l0 + wr * (l1 - l0)));
-        return (1 - wr) * ringValues_[k] + wr * ringValues_[k + 1];
-    };
-    const double ring = (1 - wa) * alongRadius(a) + wa * alongRadius(a + 1);
+    // Across albedos linearly.
+    const size_t k = size_t(a) * kTableRadii + size_t(i);
+    const double ring = (1 - wa) * ringAt(k, wr) + wa * ringAt(k + kTableRadii, wr);
     // Back from the ring value in optical units to mm^-2.
     return sigmaT_perMm * sigmaT_perMm * ring / (2.0 * kPi * r);
 }
@@ -218,15 +219,10 @@ double BeamDiffusionTable::spreadProfile_perMm2(double albedo, double sigmaT_per
     if (!(r < radii_.back()) || !(r > 0.0)) return 0.0;
     const auto [a, wa] = albedoKnot(albedo);
     const auto [i, wr] = radiusKnot(r);
-    double value = 0, laplacian = 0;
-    for (int ai = a; ai <= a + 1; ++ai) {
-        const double w = ai == a ? 1.0 - wa : wa;
-        const size_t k = size_t(ai) * kTableRadii + size_t(i);
-        const float l0 = logRingValues_[k], l1 = logRingValues_[k + 1];
-        value += w * (l0 > -HUGE_VALF && l1 > -HUGE_VALF ? double(std::exp(l0 + wr * (l1 - l0)))
-                                                         : (1 - wr) * ringValues_[k] + wr * ringValues_[k + 1]);
-        laplacian += w * ((1 - wr) * laplacians_[k] + wr * laplacians_[k + 1]);
-    }
+    const size_t k = size_t(a) * kTableRadii + size_t(i);
+    auto lerp = [wr = wr](const std::vector<double>& v, size_t at) { return (1 - wr) * v[at] + wr * v[at + 1]; };
+    double value = (1 - wa) * ringAt(k, wr) + wa * ringAt(k + kTableRadii, wr);
+    double laplacian = (1 - wa) * lerp(laplacians_, k) + wa * lerp(laplacians_, k + kTableRadii);
     // Back to mm: R_mm(r) = sigma^2 R(sigma r), its Laplacian takes sigma^4.
     const double s2 = sigmaT_perMm * sigmaT_perMm;
     value *= s2 / (2.0 * kPi * r);

@@ -87,6 +87,9 @@ private:
     // knots are regular in a transform of the value).
     std::pair<int, float> albedoKnot(double albedo) const;
     std::pair<int, float> radiusKnot(double r) const;
+    // The ring value at table entry k (an albedo's row, a radius) towards
+    // k + 1, wr of the way.
+    double ringAt(std::size_t k, float wr) const;
     std::vector<double> albedos_, radii_;
     std::vector<double> ringValues_;  // 2 pi r R(r) per (albedo, radius), optical units
     std::vector<float> logRingValues_;

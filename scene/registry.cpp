@@ -6,6 +6,14 @@
 
 namespace pl {
 
+namespace {
+// The refusal of an estimator that traces no re-entry.
+std::string refusalWithoutReentry(const char* name, const RenderSettings& s) {
+    return s.volpath.reentry ? std::string(name) + " does not trace re-entry; the scene asks for \"reentry\": true"
+                             : std::string();
+}
+}  // namespace
+
 const std::vector<IntegratorKind>& integratorKinds() {
     static const std::vector<IntegratorKind> kinds = {
         {"volpath", [](const RenderSettings& s) { return SceneNeeds{false, s.volpath.clearanceFirst}; },
@@ -19,10 +27,7 @@ const std::vector<IntegratorKind>& integratorKinds() {
          [](const RenderSettings& s) {
              return SceneNeeds{s.printpt.nee, s.printpt.clearance || s.printpt.ballWalks};
          },
-         [](const RenderSettings& s) {
-             return s.volpath.reentry ? std::string("printpt does not trace re-entry; the scene asks for \"reentry\": true")
-                                      : std::string();
-         },
+         [](const RenderSettings& s) { return refusalWithoutReentry("printpt", s); },
          // Next-event estimation is single-channel: it keeps separate passes.
          [](const RenderSettings& s) { return !s.printpt.nee; },
          [](const Scene& scene, const Sensor&, const RenderSettings& s,
@@ -30,11 +35,7 @@ const std::vector<IntegratorKind>& integratorKinds() {
              return std::make_unique<PrintPt>(scene, s.printpt, s.seed, std::move(controlMeans));
          }},
         {"lighttrace", [](const RenderSettings& s) { return SceneNeeds{s.printpt.nee, true}; },
-         [](const RenderSettings& s) {
-             return s.volpath.reentry
-                        ? std::string("lighttrace does not trace re-entry; the scene asks for \"reentry\": true")
-                        : std::string();
-         },
+         [](const RenderSettings& s) { return refusalWithoutReentry("lighttrace", s); },
          // Particles walk one channel: separate passes.
          [](const RenderSettings&) { return false; },
          [](const Scene& scene, const Sensor& sensor, const RenderSettings& s,
@@ -44,11 +45,7 @@ const std::vector<IntegratorKind>& integratorKinds() {
          }},
         // Deterministic: one sample per pixel says all it has.
         {"diffusion", [](const RenderSettings&) { return SceneNeeds{false, false}; },
-         [](const RenderSettings& s) {
-             return s.volpath.reentry
-                        ? std::string("diffusion does not trace re-entry; the scene asks for \"reentry\": true")
-                        : std::string();
-         },
+         [](const RenderSettings& s) { return refusalWithoutReentry("diffusion", s); },
          // Its bias bound goes with single-channel samples (sharedError).
          [](const RenderSettings&) { return false; },
          [](const Scene& scene, const Sensor& sensor, const RenderSettings&,
