@@ -96,10 +96,12 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         light.lighttrace.particlesPerPixel = particles;
         c["lighttrace-p" + std::to_string(int(particles))] = light;
     }
-    // The fast approximate predictor (deterministic: one sample says all).
-    RenderSettings diffusion = v;
-    diffusion.integrator = "diffusion";
-    c["diffusion"] = diffusion;
+    // The fast approximate predictors (deterministic: one sample says all).
+    for (const char* predictor : {"diffusion", "learned"}) {
+        RenderSettings fast = v;
+        fast.integrator = predictor;
+        c[predictor] = fast;
+    }
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
     for (const char* integrator : {"volpath", "printpt"}) {
         RenderSettings q = c[integrator];

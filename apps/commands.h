@@ -17,6 +17,7 @@ int stabilityCommand(const std::vector<std::string>& args);
 int predictCommand(const std::vector<std::string>& args);
 int optimizeCommand(const std::vector<std::string>& args);
 int reportCommand(const std::vector<std::string>& args);
+int learnedDataCommand(const std::vector<std::string>& args);
 
 struct Command {
     const char* name;

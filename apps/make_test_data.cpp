@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <string>
 
 #include "core/rng.h"
 #include "io/grid_io.h"
@@ -170,11 +171,148 @@ LabelGrid clearBlock() {
     return builder.finish();
 }
 
+// The learned predictor's training volumes (scripts/train_learned.py):
+// cuboids of printer voxels, 0.6-5 mm a side (thin plates included), with
+// a white, clear or mixed core under 1-3 layers. Each layer is a random
+// mixture of the printer's resins, dithered voxel by voxel with white
+// noise: one mixture, regions (cells 0.1-3 mm wide, turned at random) of
+// mixtures from a palette, or stripes and dots of a second mixture.
+struct Mixture {
+    std::array<float, 7> share{};  // per research label; void (5) stays 0
+    Label pick(float u) const {
+        for (int l = 0; l < 7; ++l)
+            if ((u -= share[size_t(l)]) < 0) return Label(l);
+        return kWhiteLabel;
+    }
+};
+
+Mixture randomMixture(Rng& rng) {
+    Mixture m;
+    const int inks = 1 + int(rng.next32() % 3);
+    float total = 0;
+    for (int k = 0; k < inks; ++k) {
+        static const Label kInks[6] = {kCyanLabel, kMagentaLabel, kYellowLabel, kBlackLabel, kWhiteLabel, kClearLabel};
+        const Label ink = kInks[rng.next32() % (rng.uniform() < 0.1f ? 6 : 5)];
+        const float w = rng.uniform() + 0.05f;
+        m.share[ink] += w;
+        total += w;
+    }
+    for (float& s : m.share) s /= total;
+    return m;
+}
+
+struct Layer {
+    enum class Kind { Uniform, Regions, Pattern } kind;
+    float bottom_mm;  // depth under the surface where the layer ends
+    Mixture mixture, second;
+    std::vector<Mixture> palette;  // regions: the cells' mixtures
+    Vec3f stripe{0, 0, 1};          // regions: the cells' turned z axis; stripes: their normal
+    float period_mm = 0, fill = 0;
+    bool dots = false;
+};
+
+void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& dir) {
+    Rng rng(seed, uint64_t(index));
+    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // the printer's (prepare's) voxels
+    Vec3f size_mm;
+    for (int a = 0; a < 3; ++a) size_mm[a] = 1.5f + 3.5f * rng.uniform();
+    if (rng.uniform() < 0.25f) size_mm[int(rng.next32() % 3)] = 0.6f + 0.9f * rng.uniform();  // a thin plate
+    std::vector<Layer> layers(size_t(1 + rng.next32() % 3));
+    float depth_mm = 0;
+    for (Layer& layer : layers) {
+        depth_mm += 0.05f + (rng.uniform() < 0.5f ? 0.3f : 1.2f) * rng.uniform();
+        layer.bottom_mm = depth_mm;
+        layer.mixture = randomMixture(rng);
+        const float kind = rng.uniform();
+        layer.kind = kind < 0.3f ? Layer::Kind::Uniform : kind < 0.65f ? Layer::Kind::Regions : Layer::Kind::Pattern;
+        const float phi = 2 * kPi * rng.uniform(), cosTheta = 2 * rng.uniform() - 1;
+        const float sinTheta = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
+        layer.stripe = {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+        if (layer.kind == Layer::Kind::Regions) {
+            layer.period_mm = 0.1f + 2.9f * rng.uniform() * rng.uniform();
+            for (int k = 0; k < 8; ++k) layer.palette.push_back(randomMixture(rng));
+        } else if (layer.kind == Layer::Kind::Pattern) {
+            layer.second = randomMixture(rng);
+            layer.period_mm = 0.1f + 1.4f * rng.uniform() * rng.uniform();
+            layer.fill = 0.1f + 0.5f * rng.uniform();
+            layer.dots = rng.uniform() < 0.4f;
+        }
+    }
+    const float core = rng.uniform();
+    Mixture coreMixture = randomMixture(rng);
+    if (core < 0.7f) coreMixture = Mixture{}, coreMixture.share[kWhiteLabel] = 1;
+    else if (core < 0.8f) coreMixture = Mixture{}, coreMixture.share[kClearLabel] = 1;
+
+    GridFrame frame;
+    for (int a = 0; a < 3; ++a) frame.resolution[a] = int(std::ceil(size_mm[a] / voxel_mm[a])) + 4;
+    frame.voxelSize_mm = voxel_mm;
+    frame.cornerMin_mm = {-2 * voxel_mm.x, -2 * voxel_mm.y, -2 * voxel_mm.z};
+    LabelGridBuilder builder(frame, kVoidLabel);
+    for (int z = 0; z < frame.resolution.z; ++z) {
+        for (int y = 0; y < frame.resolution.y; ++y)
+            for (int x = 0; x < frame.resolution.x; ++x) {
+                const Point3f c = frame.voxelCenter_mm({x, y, z});
+                if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > size_mm.x || c.y > size_mm.y || c.z > size_mm.z) continue;
+                const float depth = std::min({c.x, c.y, c.z, size_mm.x - c.x, size_mm.y - c.y, size_mm.z - c.z});
+                const uint64_t h = mix64(seed ^ (uint64_t(index) << 48) ^ uint64_t(x) * 73856093u ^
+                                         uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u);
+                const float u = float(h >> 40) / float(1 << 24);
+                const Mixture* mixture = &coreMixture;
+                for (const Layer& layer : layers) {
+                    if (depth >= layer.bottom_mm) continue;
+                    mixture = &layer.mixture;
+                    if (layer.kind == Layer::Kind::Regions) {
+                        const Frame turned(layer.stripe);
+                        const Vec3f q = c * (1.0f / layer.period_mm);
+                        const uint64_t cell = mix64(uint64_t(int64_t(std::floor(dot(q, turned.s))) * 73856093) ^
+                                                    uint64_t(int64_t(std::floor(dot(q, turned.t))) * 19349663) ^
+                                                    uint64_t(int64_t(std::floor(dot(q, turned.n))) * 83492791));
+                        mixture = &layer.palette[cell % layer.palette.size()];
+                    } else if (layer.kind == Layer::Kind::Pattern) {
+                        float phase = dot(c, layer.stripe) / layer.period_mm;
+                        bool inside = phase - std::floor(phase) < layer.fill;
+                        if (layer.dots) {
+                            const Vec3f q = c * (1.0f / layer.period_mm);
+                            const Vec3f f{q.x - std::floor(q.x) - 0.5f, q.y - std::floor(q.y) - 0.5f, q.z - std::floor(q.z) - 0.5f};
+                            inside = std::sqrt(dot(f, f)) < 0.6f * layer.fill;
+                        }
+                        if (inside) mixture = &layer.second;
+                    }
+                    break;
+                }
+                builder.set({x, y, z}, mixture->pick(u));
+            }
+        if (z % 32 == 0) builder.compact();
+    }
+    char name[32];
+    std::snprintf(name, sizeof(name), "train_%03d", index);
+    writeLabelGridVdb(builder.finish(), dir / (std::string(name) + ".vdb"));
+    TriangleMesh mesh;
+    SurfaceAppearance look;
+    cube(1.0f, mesh, look);
+    for (Point3f& p : mesh.positions_mm) p = {p.x * size_mm.x, p.y * size_mm.y, p.z * size_mm.z};
+    writeGltf(mesh, look, "", dir / (std::string(name) + ".gltf"));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+    // make-test-data --training N SEED OUTDIR: N training volumes.
+    if (argc == 5 && std::string(argv[1]) == "--training") {
+        try {
+            const int count = std::stoi(argv[2]);
+            const uint64_t seed = std::stoull(argv[3]);
+            std::filesystem::create_directories(argv[4]);
+            for (int i = 0; i < count; ++i) writeTrainingVolume(seed, i, argv[4]);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "make-test-data: error: %s\n", e.what());
+            return 1;
+        }
+        std::printf("make-test-data: wrote %s training volumes to %s\n", argv[2], argv[4]);
+        return 0;
+    }
     if (argc != 2) {
-        std::fprintf(stderr, "usage: make-test-data OUTDIR\n");
+        std::fprintf(stderr, "usage: make-test-data OUTDIR | make-test-data --training N SEED OUTDIR\n");
         return 2;
     }
     std::filesystem::path dir = argv[1];

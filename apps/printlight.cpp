@@ -29,6 +29,8 @@ const std::vector<Command>& commands() {
          stabilityCommand},
         {"report", "MODEL.glb", "glTF binaries: a prediction (render's OUT.glb), a target, an error map",
          "a self-contained HTML page: the models on rotating views, an optimisation's history", reportCommand},
+        {"learned-data", "SCENE.json", "a scene whose sensor is surface_voxels with the patch footprint",
+         "the learned predictor's training rows from a render (scripts/train_learned.py)", learnedDataCommand},
         {"info", "VOLUME", "a label grid (.vdb, .bin, .gz, .vol)", "describes a label grid", infoCommand},
     };
     return table;

@@ -177,22 +177,9 @@ private:
 
 }  // namespace
 
-Diffusion::~Diffusion() = default;
-
-Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
-    // The sum over the surface needs all of it: the sensor's patches if it
-    // has every surface voxel's, else the grid's own.
-    surface_ = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
-    if (!surface_ || !surface_->patches()) surface_ = nullptr;
-    const std::vector<SurfaceVoxel> surfaceVoxels = scene.medium->grid().surfaceVoxels();
-    if (!surface_ || surface_->pixelCount() != surfaceVoxels.size()) {
-        ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels,
-                                                           SurfaceVoxelSensor::Footprint::Patch);
-        surface_ = ownSurface_.get();
-    }
+Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse(scene, sensor) {
     const LabelMedium& medium = *scene.medium;
-    const SurfacePatches& patches = *surface_->patches();
-    const size_t n = surface_->pixelCount();
+    const size_t n = elementCount();
 
     // One table pair per Henyey-Greenstein g of the labels.
     std::vector<ProfileTables> tables;
@@ -231,21 +218,11 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
         };
         std::vector<Segment> column;
         for (size_t i = begin; i < end; ++i) {
-            const SurfaceVoxelSensor::Pixel& pixel = surface_->pixels()[i];
+            const SurfacePoint geometry = surfacePoint(i);
             Element& e = elements[i];
-            Vec3f normal = pixel.normal;
-            e.p = pixel.surfacePoint_mm;
-            e.area_mm2 = float(patches.area_mm2(i));
-            if (e.area_mm2 > 0) {
-                Point3f weighted(0, 0, 0);
-                Vec3f n(0, 0, 0);
-                for (const SurfacePatches::Piece* piece = patches.begin(i); piece != patches.end(i); ++piece) {
-                    weighted += (piece->a + piece->b + piece->c) * (piece->area_mm2 / 3.0f);
-                    n += piece->normal * piece->area_mm2;
-                }
-                e.p = weighted / e.area_mm2;
-                if (length(n) > 0) normal = normalize(n);
-            }
+            e.p = geometry.p;
+            e.area_mm2 = geometry.area_mm2;
+            const Vec3f normal = geometry.normal;
             const Ray inward = scene.geometry->spawnRay(e.p, normal, -normal);
             const auto exit = scene.geometry->intersectFromInside(inward, kColumnDepth_mm);
             const float depth_mm = exit ? exit->t : kColumnDepth_mm;
@@ -330,43 +307,11 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : scene_(scene) {
             for (int c = 0; c < kChannels; ++c) multiple_[i][c] = float(sum[c]);
         }
     });
-}
-
-RGB Diffusion::radiance(const Ray& ray, int reflectionsLeft, RGB* biasBound) const {
-    const RGB& Le = scene_.environment;
-    const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
-    if (!hit) return Le;
-    if (dot(ray.d, hit->ng) >= 0) return {0, 0, 0};  // from inside: not a view of the surface
-    const float cosine = std::clamp(-dot(ray.d, hit->ns), 0.0f, 1.0f);
-    const float fresnel = fresnelDielectric(cosine, scene_.ior);
-    RGB mirrored = Le;
-    if (reflectionsLeft > 0)
-        mirrored = radiance(scene_.geometry->spawnRay(hit->p, hit->ng, reflectOnSide(ray.d, *hit)), reflectionsLeft - 1,
-                            nullptr);
-    RGB L;
-    for (int c = 0; c < kChannels; ++c) L[c] = fresnel * mirrored[c];
-    const std::optional<uint32_t> element = surface_->patches()->pixelAt(hit->prim, hit->p);
-    if (!element) return L;
-    for (int c = 0; c < kChannels; ++c) {
-        L[c] += (1.0f - fresnel) * Le[c] * (single_[*element][c] + multiple_[*element][c]);
-        if (biasBound) (*biasBound)[c] = (1.0f - fresnel) * Le[c] * kErrorShareOfMultipleScattering * multiple_[*element][c];
-    }
-    return L;
-}
-
-ChannelSample Diffusion::Li(Ray ray, int channel, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
-    RGB bias{0, 0, 0};
-    const RGB L = radiance(ray, 1, &bias);
-    ++stats.paths;
-    ChannelSample sample;
-    sample.value = L[channel];
-    sample.sharedError = bias[channel];
-    return sample;
-}
-
-RGB Diffusion::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
-    ++stats.paths;
-    return radiance(ray, 1, nullptr);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < kChannels; ++c) {
+            response_[i][c] = single_[i][c] + multiple_[i][c];
+            errorBound_[i][c] = kErrorShareOfMultipleScattering * multiple_[i][c];
+        }
 }
 
 }  // namespace pl

@@ -9,30 +9,23 @@
 //    one point), each pair of surface points in the medium averaged from
 //    their columns' effective media (the labels' coefficients weighted
 //    by e^{-z / 0.1 mm}: the layer the light enters and leaves by).
-// A ray reads the value of the surface voxel it hits, after Fresnel, plus
-// the surroundings' mirror reflection. The sample's sharedError is the
-// predictor's bias bound (its error is bias, not noise).
+// A ray reads the result as every surface-response predictor does
+// (surface_response.h); the error bound is a share of the multiple
+// scattering.
 #pragma once
 
 #include <array>
 #include <memory>
 #include <vector>
 
-#include "core/sensors.h"
-#include "integrators/integrator.h"
+#include "integrators/surface_response.h"
 #include "media/beam_diffusion.h"
 
 namespace pl {
 
-class Diffusion : public Integrator {
+class Diffusion : public SurfaceResponse {
 public:
     Diffusion(const Scene& scene, const Sensor& sensor);
-    ~Diffusion() override;
-
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
-                     PathStats& stats) const override;
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
-              PathStats& stats) const override;
 
     // Per surface element (the patches' pixels): the light that leaves
     // along the normal per unit light transmitted in, by single and by
@@ -41,12 +34,6 @@ public:
     const std::vector<RGB>& multipleScattering() const { return multiple_; }
 
 private:
-    // The radiance along -ray.d at ray.o, and its bias bound.
-    RGB radiance(const Ray& ray, int reflectionsLeft, RGB* biasBound) const;
-
-    const Scene& scene_;
-    std::unique_ptr<SurfaceVoxelSensor> ownSurface_;  // when the sensor has no patches
-    const SurfaceVoxelSensor* surface_ = nullptr;
     std::vector<RGB> single_, multiple_;
 };
 

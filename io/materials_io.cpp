@@ -6,7 +6,11 @@ namespace pl {
 
 MaterialTable loadMaterials(const std::filesystem::path& file) {
     JsonReader json(file);
-    const nlohmann::json* list = &json.root();
+    return readMaterials(json, json.root());
+}
+
+MaterialTable readMaterials(const JsonReader& json, const nlohmann::json& node) {
+    const nlohmann::json* list = &node;
     // Accept a bare list or {"materials": [...]}.
     if (list->is_object()) {
         json.expectOnlyKeys(*list, "", {"materials", "comment"});

@@ -6,10 +6,13 @@
 
 #include <filesystem>
 
+#include "io/json_util.h"
 #include "media/materials.h"
 
 namespace pl {
 
 MaterialTable loadMaterials(const std::filesystem::path& file);
+// The same from a node of a JSON file (a list, or {"materials": [...]}).
+MaterialTable readMaterials(const JsonReader& json, const nlohmann::json& node);
 
 }  // namespace pl

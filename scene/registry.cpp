@@ -3,6 +3,8 @@
 #include <stdexcept>
 
 #include "integrators/diffusion.h"
+#include "integrators/learned.h"
+#include "io/learned_model_io.h"
 
 namespace pl {
 
@@ -51,6 +53,14 @@ const std::vector<IntegratorKind>& integratorKinds() {
          [](const Scene& scene, const Sensor& sensor, const RenderSettings&,
             std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
              return std::make_unique<Diffusion>(scene, sensor);
+         },
+         true},
+        {"learned", [](const RenderSettings&) { return SceneNeeds{false, false}; },
+         [](const RenderSettings& s) { return refusalWithoutReentry("learned", s); },
+         [](const RenderSettings&) { return false; },
+         [](const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+            std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {
+             return std::make_unique<Learned>(scene, sensor, loadLearnedModel(s.learnedModel));
          },
          true},
     };

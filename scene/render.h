@@ -4,6 +4,8 @@
 // render asks for fewer channels): then one pass per channel.
 #pragma once
 
+#include <filesystem>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,6 +36,9 @@ struct RenderSettings {
     VolPathOptions volpath;
     PrintPtOptions printpt;
     LightTraceOptions lighttrace;
+    // The learned predictor's model (io/learned_model_io.h): by default the
+    // one beside the scene's material table.
+    std::filesystem::path learnedModel;
     bool showProgress = false;
 };
 

@@ -7,6 +7,7 @@
 #include "io/grid_io.h"
 #include "io/input_error.h"
 #include "io/json_util.h"
+#include "io/learned_model_io.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
 
@@ -128,7 +129,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "time_budget_s", "target_relative_error", "seed", "channel", "channel_sampling", "max_depth",
                                          "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid",
-                                         "lighttrace_scoring", "lighttrace_track_spacing_mfp"};
+                                         "lighttrace_scoring", "lighttrace_track_spacing_mfp", "learned_model"};
         for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
@@ -173,6 +174,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
             float(json.number(ren, "lighttrace_track_spacing_mfp", "render", r.lighttrace.trackSpacing_mfp));
         if (!(r.lighttrace.trackSpacing_mfp >= 0.01f && r.lighttrace.trackSpacing_mfp <= 100.0f))
             json.fail("render.lighttrace_track_spacing_mfp", "must be in [0.01, 100] (scattering mean free paths)");
+        if (ren.contains("learned_model")) r.learnedModel = dir / json.string(ren, "learned_model", "render");
         for (const PrintPtParameter& p : printPtParameters()) {
             if (!ren.contains(p.name)) continue;
             using Kind = PrintPtParameter::Kind;
@@ -184,6 +186,8 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         }
         if (std::string why = integratorKindOf(r).refusal(r); !why.empty()) json.fail("render.integrator", why);
     }
+
+    if (r.learnedModel.empty()) r.learnedModel = learnedModelBeside(d.materialsFile);
 
     // output
     if (root.contains("output")) {

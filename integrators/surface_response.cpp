@@ -1,0 +1,81 @@
+#include "integrators/surface_response.h"
+
+#include <algorithm>
+
+#include "core/fresnel.h"
+
+namespace pl {
+
+SurfaceResponse::~SurfaceResponse() = default;
+
+SurfaceResponse::SurfaceResponse(const Scene& scene, const Sensor& sensor) : scene_(scene) {
+    // Predictors look at the surface around each element: they need all of
+    // it, the sensor's patches if it has every surface voxel's, else the
+    // grid's own.
+    surface_ = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
+    if (!surface_ || !surface_->patches()) surface_ = nullptr;
+    const std::vector<SurfaceVoxel> surfaceVoxels = scene.medium->grid().surfaceVoxels();
+    if (!surface_ || surface_->pixelCount() != surfaceVoxels.size()) {
+        ownSurface_ = std::make_unique<SurfaceVoxelSensor>(*scene.geometry, scene.medium->frame(), surfaceVoxels,
+                                                           SurfaceVoxelSensor::Footprint::Patch);
+        surface_ = ownSurface_.get();
+    }
+    response_.assign(elementCount(), RGB{0, 0, 0});
+    errorBound_.assign(elementCount(), RGB{0, 0, 0});
+}
+
+SurfacePoint surfacePointOf(const SurfaceVoxelSensor& surface, size_t i) {
+    const SurfaceVoxelSensor::Pixel& pixel = surface.pixels()[i];
+    const SurfacePatches& patches = *surface.patches();
+    SurfacePoint e{pixel.surfacePoint_mm, pixel.normal, float(patches.area_mm2(i))};
+    if (e.area_mm2 > 0) {
+        Point3f weighted(0, 0, 0);
+        Vec3f n(0, 0, 0);
+        for (const SurfacePatches::Piece* piece = patches.begin(i); piece != patches.end(i); ++piece) {
+            weighted += (piece->a + piece->b + piece->c) * (piece->area_mm2 / 3.0f);
+            n += piece->normal * piece->area_mm2;
+        }
+        e.p = weighted / e.area_mm2;
+        if (length(n) > 0) e.normal = normalize(n);
+    }
+    return e;
+}
+
+RGB SurfaceResponse::radiance(const Ray& ray, int reflectionsLeft, RGB* bound) const {
+    const RGB& Le = scene_.environment;
+    const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
+    if (!hit) return Le;
+    if (dot(ray.d, hit->ng) >= 0) return {0, 0, 0};  // from inside: not a view of the surface
+    const float cosine = std::clamp(-dot(ray.d, hit->ns), 0.0f, 1.0f);
+    const float fresnel = fresnelDielectric(cosine, scene_.ior);
+    RGB mirrored = Le;
+    if (reflectionsLeft > 0)
+        mirrored = radiance(scene_.geometry->spawnRay(hit->p, hit->ng, reflectOnSide(ray.d, *hit)), reflectionsLeft - 1,
+                            nullptr);
+    RGB L;
+    for (int c = 0; c < kChannels; ++c) L[c] = fresnel * mirrored[c];
+    const std::optional<uint32_t> element = surface_->patches()->pixelAt(hit->prim, hit->p);
+    if (!element) return L;
+    for (int c = 0; c < kChannels; ++c) {
+        L[c] += (1.0f - fresnel) * Le[c] * response_[*element][c];
+        if (bound) (*bound)[c] = (1.0f - fresnel) * Le[c] * errorBound_[*element][c];
+    }
+    return L;
+}
+
+ChannelSample SurfaceResponse::Li(Ray ray, int channel, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+    RGB bound{0, 0, 0};
+    const RGB L = radiance(ray, 1, &bound);
+    ++stats.paths;
+    ChannelSample sample;
+    sample.value = L[channel];
+    sample.sharedError = bound[channel];
+    return sample;
+}
+
+RGB SurfaceResponse::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+    ++stats.paths;
+    return radiance(ray, 1, nullptr);
+}
+
+}  // namespace pl
