@@ -172,7 +172,8 @@ LabelGrid clearBlock() {
 }
 
 // The learned predictor's training volumes (scripts/train_learned.py):
-// cuboids of printer voxels, 0.6-5 mm a side (thin plates included), with
+// cuboids of printer voxels, 1.5-12 mm a side (small ones likelier; thin
+// plates of 0.6-1.5 mm too), with
 // a white, clear or mixed core under 1-3 layers. Each layer is a random
 // mixture of the printer's resins, dithered voxel by voxel with white
 // noise: one mixture, regions (cells 0.1-3 mm wide, turned at random) of
@@ -215,7 +216,7 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
     Rng rng(seed, uint64_t(index));
     const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // the printer's (prepare's) voxels
     Vec3f size_mm;
-    for (int a = 0; a < 3; ++a) size_mm[a] = 1.5f + 3.5f * rng.uniform();
+    for (int a = 0; a < 3; ++a) size_mm[a] = 1.5f + 10.5f * rng.uniform() * rng.uniform();
     if (rng.uniform() < 0.25f) size_mm[int(rng.next32() % 3)] = 0.6f + 0.9f * rng.uniform();  // a thin plate
     std::vector<Layer> layers(size_t(1 + rng.next32() % 3));
     float depth_mm = 0;

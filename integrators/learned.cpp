@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Core>
 
@@ -17,10 +18,13 @@ constexpr size_t kBatch = 256;
 
 std::string LearnedModel::refusal(const MaterialTable& scene, const Vec3f& sceneVoxel_mm) const {
     for (int a = 0; a < 3; ++a)
-        if (std::abs(sceneVoxel_mm[a] - voxelSize_mm[a]) > 0.01f * voxelSize_mm[a])
-            return "the learned model was trained for " + std::to_string(voxelSize_mm.x) + " x " +
-                   std::to_string(voxelSize_mm.y) + " x " + std::to_string(voxelSize_mm.z) +
-                   " mm voxels, not these";
+        if (std::abs(sceneVoxel_mm[a] - voxelSize_mm[a]) > 0.01f * voxelSize_mm[a]) {
+            char text[160];
+            std::snprintf(text, sizeof(text), "the learned model was trained for %g x %g x %g mm voxels, not %g x %g x %g",
+                          voxelSize_mm.x, voxelSize_mm.y, voxelSize_mm.z, sceneVoxel_mm.x, sceneVoxel_mm.y,
+                          sceneVoxel_mm.z);
+            return text;
+        }
     for (int l = 0; l < 256; ++l) {
         const Material &a = scene.byLabel[size_t(l)], &b = materials.byLabel[size_t(l)];
         if (a.defined != b.defined) return "label " + std::to_string(l) + " differs from the material table the learned model was trained for";

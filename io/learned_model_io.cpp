@@ -3,6 +3,7 @@
 #include <map>
 #include <mutex>
 
+#include "io/input_error.h"
 #include "io/json_util.h"
 #include "io/materials_io.h"
 
@@ -11,6 +12,9 @@ namespace pl {
 namespace {
 
 std::shared_ptr<const LearnedModel> readLearnedModel(const std::filesystem::path& file) {
+    if (!std::filesystem::exists(file))
+        throw InputError(file.string(), "no learned model (scripts/train_learned.py --materials TABLE trains one "
+                                        "beside the table; render.learned_model names another)");
     JsonReader json(file);
     const nlohmann::json& root = json.root();
     json.expectOnlyKeys(root, "", {"format", "comment", "trained_for", "descriptor_size", "layers", "error_bound", "training"});

@@ -56,7 +56,17 @@ const std::vector<IntegratorKind>& integratorKinds() {
          },
          true},
         {"learned", [](const RenderSettings&) { return SceneNeeds{false, false}; },
-         [](const RenderSettings& s) { return refusalWithoutReentry("learned", s); },
+         // Its model is read up front; whether it was trained for the
+         // scene's materials and voxels is known once the scene is loaded.
+         [](const RenderSettings& s) {
+             std::string why = refusalWithoutReentry("learned", s);
+             if (why.empty()) try {
+                     loadLearnedModel(s.learnedModel);
+                 } catch (const std::exception& e) {
+                     why = e.what();
+                 }
+             return why;
+         },
          [](const RenderSettings&) { return false; },
          [](const Scene& scene, const Sensor& sensor, const RenderSettings& s,
             std::shared_ptr<HalfSpaceMeans>) -> std::unique_ptr<Integrator> {

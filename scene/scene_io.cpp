@@ -125,6 +125,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
 
     // render
     RenderSettings& r = d.render;
+    r.learnedModel = learnedModelBeside(d.materialsFile);
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
         std::vector<std::string> keys = {"integrator", "spp", "time_budget_s", "target_relative_error", "seed", "channel", "channel_sampling", "max_depth",
@@ -186,8 +187,6 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         }
         if (std::string why = integratorKindOf(r).refusal(r); !why.empty()) json.fail("render.integrator", why);
     }
-
-    if (r.learnedModel.empty()) r.learnedModel = learnedModelBeside(d.materialsFile);
 
     // output
     if (root.contains("output")) {

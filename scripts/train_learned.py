@@ -3,6 +3,7 @@
 
   scripts/train_learned.py [--build build] [--work /tmp/printlight-train]
       [--volumes 60] [--spp 16] [--seed 1] [--epochs 30]
+      (--spp: samples per voxel on a volume of 60 mm^2; larger ones get fewer)
       [--materials data/materials/resins_illustrative.json]
 
 1. make-test-data --training writes procedural label volumes (cuboids with
@@ -52,10 +53,22 @@ def make_rows(args):
                 "render": {"integrator": "lighttrace", "spp": args.spp, "seed": args.seed + i,
                            "channel": "rgb", "reentry": False},
                 "output": {"path": name + "_render"}}, f, indent=1)
+        # Samples per voxel fall with the surface's area: every volume gets
+        # about the same number of paths (noisy targets average out).
+        info = subprocess.run([f"{args.build}/printlight", "info", os.path.join(args.work, name + ".vdb")],
+                              check=True, capture_output=True, text=True).stdout
+        x, y, z = (float(v) for v in re.search(r"\(([\d.]+) x ([\d.]+) x ([\d.]+) mm\)", info).groups())
+        area_mm2 = 2 * (x * y + y * z + z * x)
+        spp = max(2, round(args.spp * 60.0 / area_mm2))
+        with open(scene) as f:
+            described = json.load(f)
+        described["render"]["spp"] = spp
+        with open(scene, "w") as f:
+            json.dump(described, f, indent=1)
         render = os.path.join(args.work, name + "_render")
         run([f"{args.build}/printlight", "render", scene, "-o", render])
         run([f"{args.build}/printlight", "learned-data", scene, "--reference", render + ".exr", "-o", rows])
-        print(f"train_learned: {name} rendered", flush=True)
+        print(f"train_learned: {name} ({x:.1f} x {y:.1f} x {z:.1f} mm) rendered at {spp} spp", flush=True)
     return files
 
 

@@ -912,6 +912,26 @@ TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
     EXPECT_NE(bad.err.find("--predictor"), std::string::npos) << bad.err;
 }
 
+// The learned predictor reads the model beside the material table, or the
+// one the scene names; without one, or for voxels it was not trained for
+// (this cube's 0.1 mm), it says so in one line and writes nothing.
+TEST(Cli, LearnedPredictorRefusesWithoutItsModel) {
+    TestScene s("learned_refusal");
+    s.scene["render"]["reentry"] = false;
+    s.scene["render"]["integrator"] = "learned";
+    expectCleanFailure(s, s.render(), "materials.learned.json", "no learned model");
+    // Its voxels are known once the scene is loaded: after the summary line.
+    s.scene["render"]["learned_model"] =
+        (test::sourceDir() / "data/materials/resins_illustrative.learned.json").string();
+    const CliRun r = s.render();
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    const size_t last = r.err.rfind("printlight: error: ");
+    ASSERT_NE(last, std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin() + std::ptrdiff_t(last), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find("trained for 0.0423 x 0.0847 x 0.027 mm voxels", last), std::string::npos) << r.err;
+    EXPECT_FALSE(s.anyOutput());
+}
+
 TEST(Cli, OptimizeReducesTheErrorOnTheDetailedCube) {
     TestScene s("optimize_greek");
     fs::path prefix = s.dir / "opt";
