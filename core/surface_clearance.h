@@ -19,7 +19,9 @@ class SurfaceClearance {
 public:
     static constexpr int kBlockLog2 = 2;
 
-    SurfaceClearance(const Geometry& geometry, const GridFrame& frame);
+    // Each block's query looks this far at least (a bound is never larger
+    // than its query's reach).
+    SurfaceClearance(const Geometry& geometry, const GridFrame& frame, float leastSearchRadius_mm = 0.0f);
 
     // A distance (mm) that the boundary is no closer than to p; 0 where
     // the boundary may be close or p is outside the frame.

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "runtime/memory_budget.h"
+#include "scene/homogeneous_core.h"
 #include "scene/registry.h"
 #include "io/grid_io.h"
 #include "io/input_error.h"
@@ -53,7 +54,8 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
 
     // object
     const auto& obj = json.object(root, "object", "");
-    json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "mesh_repair", "labels", "materials", "ior", "void_label"});
+    json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "mesh_repair", "labels", "materials", "ior", "void_label",
+                                         "homogeneous_core_depth_mm"});
     d.meshFile = dir / json.string(obj, "mesh", "object");
     if (obj.contains("mesh_units")) {
         const std::string unit = json.string(obj, "mesh_units", "object");
@@ -68,6 +70,9 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     d.materialsFile = dir / json.string(obj, "materials", "object");
     d.ior = float(json.number(obj, "ior", "object", 1.5));
     if (!(d.ior > 0)) json.fail("object.ior", "must be positive");
+    d.homogeneousCoreDepth_mm = float(json.number(obj, "homogeneous_core_depth_mm", "object", 0.0));
+    if (!(d.homogeneousCoreDepth_mm >= 0 && std::isfinite(d.homogeneousCoreDepth_mm)))
+        json.fail("object.homogeneous_core_depth_mm", "must be a number >= 0 (0: off)");
     if (obj.contains("void_label")) {
         int64_t v = json.integer(obj, "void_label", "object");
         if (v < 0 || v > 255) json.fail("object.void_label", "must be in 0..255");
@@ -226,6 +231,7 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
         if (mb.hi[a] <= glo[a] || mb.lo[a] >= ghi[a])
             throw InputError(d.meshFile.string(), "mesh does not overlap the label grid " + d.labelsFile.string());
 
+    if (d.homogeneousCoreDepth_mm > 0) grid = withHomogeneousCore(grid, *scene.geometry, d.homogeneousCoreDepth_mm);
     GridFrame frame = grid.frame();
     scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
     if (needs.surfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));

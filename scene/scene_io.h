@@ -31,6 +31,8 @@ struct SceneDescription {
     bool meshRepair = false;      // repair the mesh as it loads (io/mesh_repair.h)
     std::optional<Label> voidLabel;
     float ior = 1.5f;
+    // > 0: voxels deeper than this take the core's one label (scene/homogeneous_core.h).
+    float homogeneousCoreDepth_mm = 0;
     RGB environment{1, 1, 1};
     SensorDescription sensor;
     RenderSettings render;

@@ -369,6 +369,12 @@ TEST(Cli, NonPositiveIor) {
     }
 }
 
+TEST(Cli, NegativeHomogeneousCoreDepth) {
+    TestScene s("core_depth");
+    s.scene["object"]["homogeneous_core_depth_mm"] = -0.5;
+    expectCleanFailure(s, s.render(), "scene.json", "object.homogeneous_core_depth_mm");
+}
+
 TEST(Cli, NonClosedMesh) {
     TestScene s("open");
     TriangleMesh m = test::boxMesh({0, 0, 0}, {2, 2, 2});
