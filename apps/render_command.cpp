@@ -115,6 +115,10 @@ int renderCommand(const std::vector<std::string>& argv) {
                      withThousands(sensor->pixelCount()).c_str(), desc.render.integrator.c_str(), desc.render.spp,
                      rendersChannelsInOnePass(desc.render) ? size_t(1) : desc.render.channels.size(),
                      channelSamplingName(desc.render.channelSampling), threads.count, setupSeconds);
+    if (scene.homogeneousCore && !quiet)
+        std::fprintf(stderr, "printlight: homogeneous core deeper than %g mm: %s voxels, %s of them relabelled\n",
+                     desc.homogeneousCoreDepth_mm, withThousands(scene.homogeneousCore->coreVoxels).c_str(),
+                     withThousands(scene.homogeneousCore->changedVoxels).c_str());
     if (auto* voxels = dynamic_cast<const SurfaceVoxelSensor*>(sensor.get()); voxels && voxels->patches() && !quiet) {
         const SurfacePatches& p = *voxels->patches();
         std::fprintf(stderr, "printlight: patch footprint: %s voxels with no patch (measured along their ray), %.4g mm^2 of "

@@ -3,11 +3,13 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 
 #include "core/geometry.h"
 #include "core/rgb.h"
 #include "core/surface_clearance.h"
 #include "media/label_medium.h"
+#include "scene/homogeneous_core.h"
 
 namespace pl {
 
@@ -21,6 +23,8 @@ struct Scene {
     // Geometry, grid and sensors live in a local frame whose origin is the
     // grid's corner (see toLocalFrame); this is its world position.
     Vec3f worldOrigin_mm{0, 0, 0};
+    // What the homogeneous-core approximation changed, when it is on.
+    std::optional<HomogeneousCore> homogeneousCore;
 
     // The grid's placement in the world (for outputs).
     GridFrame worldFrame() const {

@@ -231,7 +231,10 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
         if (mb.hi[a] <= glo[a] || mb.lo[a] >= ghi[a])
             throw InputError(d.meshFile.string(), "mesh does not overlap the label grid " + d.labelsFile.string());
 
-    if (d.homogeneousCoreDepth_mm > 0) grid = withHomogeneousCore(grid, *scene.geometry, d.homogeneousCoreDepth_mm);
+    if (d.homogeneousCoreDepth_mm > 0) {
+        scene.homogeneousCore.emplace();
+        grid = withHomogeneousCore(grid, *scene.geometry, d.homogeneousCoreDepth_mm, &*scene.homogeneousCore);
+    }
     GridFrame frame = grid.frame();
     scene.medium = std::make_unique<LabelMedium>(std::move(grid), std::move(materials));
     if (needs.surfaceFields) scene.medium->setSurfaceFields(loadVoxelFields(d.labelsFile, frame));
