@@ -43,6 +43,33 @@ void cube(float size, TriangleMesh& mesh, SurfaceAppearance& look) {
     }
 }
 
+// The ellipsoid with these radii inscribed in [0, 2 radius]: a latitude-
+// longitude mesh of 64 x 32 quads, within 0.01 mm of the true surface up
+// to 12 mm across (finer meshes only slow light tracing's prism queries).
+void ellipsoidMesh(const Vec3f& radius_mm, TriangleMesh& mesh, SurfaceAppearance& look) {
+    const int rings = 32, segments = 64;
+    auto vertex = [&](float theta, float phi) {
+        mesh.positions_mm.push_back({radius_mm.x * (1 + std::sin(theta) * std::cos(phi)),
+                                     radius_mm.y * (1 + std::sin(theta) * std::sin(phi)),
+                                     radius_mm.z * (1 + std::cos(theta))});
+        look.uvs.push_back({phi / (2 * kPi), theta / kPi});
+        return uint32_t(mesh.positions_mm.size() - 1);
+    };
+    // Ring i (1 .. rings - 1) at polar angle pi i / rings; one vertex per pole.
+    const uint32_t top = vertex(0, 0), first = uint32_t(mesh.positions_mm.size());
+    for (int i = 1; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) vertex(kPi * float(i) / rings, 2 * kPi * float(j) / segments);
+    const uint32_t bottom = vertex(kPi, 0);
+    auto at = [&](int i, int j) { return first + uint32_t((i - 1) * segments + (j % segments)); };
+    for (int j = 0; j < segments; ++j) {  // outward winding
+        mesh.indices.insert(mesh.indices.end(), {top, at(1, j), at(1, j + 1)});
+        mesh.indices.insert(mesh.indices.end(), {bottom, at(rings - 1, j + 1), at(rings - 1, j)});
+        for (int i = 1; i + 1 < rings; ++i)
+            mesh.indices.insert(mesh.indices.end(), {at(i, j), at(i + 1, j), at(i, j + 1),
+                                                     at(i, j + 1), at(i + 1, j), at(i + 1, j + 1)});
+    }
+}
+
 // A closed tube swept along a curve with rotation-minimising frames, a
 // radius profile, poles at both ends; u runs along the curve, v around it.
 void sweep(int rings, int segments, const std::function<Point3f(float)>& curve,
@@ -172,8 +199,9 @@ LabelGrid clearBlock() {
 }
 
 // The learned predictor's training volumes (scripts/train_learned.py):
-// cuboids of printer voxels, 1.5-12 mm a side (small ones likelier; thin
-// plates of 0.6-1.5 mm too), with
+// cuboids (60 %) and ellipsoids of printer voxels, 1.5-12 mm across (small
+// ones likelier; thin plates of 0.6-1.5 mm, and ellipsoids as thin rods
+// or discs, too), with
 // a white, clear or mixed core under 1-3 layers. Each layer is a random
 // mixture of the printer's resins, dithered voxel by voxel with white
 // noise: one mixture, regions (cells 0.1-3 mm wide, turned at random) of
@@ -218,6 +246,28 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
     Vec3f size_mm;
     for (int a = 0; a < 3; ++a) size_mm[a] = 1.5f + 10.5f * rng.uniform() * rng.uniform();
     if (rng.uniform() < 0.25f) size_mm[int(rng.next32() % 3)] = 0.6f + 0.9f * rng.uniform();  // a thin plate
+    // The shape from its own stream: an ellipsoid inscribed in the box, as
+    // a rod when two of its diameters are made small.
+    Rng shapeRng(seed ^ 0x5eed5eedull, uint64_t(index));
+    const bool ellipsoid = shapeRng.uniform() < 0.4f;
+    if (ellipsoid && shapeRng.uniform() < 0.4f) {
+        const int keep = int(shapeRng.next32() % 3);
+        for (int a = 0; a < 3; ++a)
+            if (a != keep) size_mm[a] = std::min(size_mm[a], 0.6f + 2.4f * shapeRng.uniform());
+    }
+    const Vec3f radius_mm = size_mm * 0.5f;
+    auto inside = [&](const Point3f& c) {
+        if (!ellipsoid) return c.x >= 0 && c.y >= 0 && c.z >= 0 && c.x <= size_mm.x && c.y <= size_mm.y && c.z <= size_mm.z;
+        const Vec3f q{(c.x - radius_mm.x) / radius_mm.x, (c.y - radius_mm.y) / radius_mm.y, (c.z - radius_mm.z) / radius_mm.z};
+        return dot(q, q) <= 1.0f;
+    };
+    // Depth under the surface: exact for the cuboid and a sphere, about
+    // right for an ellipsoid.
+    auto depthOf = [&](const Point3f& c) {
+        if (!ellipsoid) return std::min({c.x, c.y, c.z, size_mm.x - c.x, size_mm.y - c.y, size_mm.z - c.z});
+        const Vec3f q{(c.x - radius_mm.x) / radius_mm.x, (c.y - radius_mm.y) / radius_mm.y, (c.z - radius_mm.z) / radius_mm.z};
+        return (1.0f - std::sqrt(dot(q, q))) * std::min({radius_mm.x, radius_mm.y, radius_mm.z});
+    };
     std::vector<Layer> layers(size_t(1 + rng.next32() % 3));
     float depth_mm = 0;
     for (Layer& layer : layers) {
@@ -253,8 +303,8 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
         for (int y = 0; y < frame.resolution.y; ++y)
             for (int x = 0; x < frame.resolution.x; ++x) {
                 const Point3f c = frame.voxelCenter_mm({x, y, z});
-                if (c.x < 0 || c.y < 0 || c.z < 0 || c.x > size_mm.x || c.y > size_mm.y || c.z > size_mm.z) continue;
-                const float depth = std::min({c.x, c.y, c.z, size_mm.x - c.x, size_mm.y - c.y, size_mm.z - c.z});
+                if (!inside(c)) continue;
+                const float depth = depthOf(c);
                 const uint64_t h = mix64(seed ^ (uint64_t(index) << 48) ^ uint64_t(x) * 73856093u ^
                                          uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u);
                 const float u = float(h >> 40) / float(1 << 24);
@@ -290,8 +340,12 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
     writeLabelGridVdb(builder.finish(), dir / (std::string(name) + ".vdb"));
     TriangleMesh mesh;
     SurfaceAppearance look;
-    cube(1.0f, mesh, look);
-    for (Point3f& p : mesh.positions_mm) p = {p.x * size_mm.x, p.y * size_mm.y, p.z * size_mm.z};
+    if (ellipsoid) {
+        ellipsoidMesh(radius_mm, mesh, look);
+    } else {
+        cube(1.0f, mesh, look);
+        for (Point3f& p : mesh.positions_mm) p = {p.x * size_mm.x, p.y * size_mm.y, p.z * size_mm.z};
+    }
     writeGltf(mesh, look, "", dir / (std::string(name) + ".gltf"));
 }
 
