@@ -312,6 +312,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse
             response_[i][c] = single_[i][c] + multiple_[i][c];
             errorBound_[i][c] = kErrorShareOfMultipleScattering * multiple_[i][c];
         }
+    coverElementsOverClearResin();
 }
 
 }  // namespace pl

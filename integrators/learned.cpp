@@ -96,6 +96,7 @@ Learned::Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const
                 errorBound_[i][c] = model->errorShare * R + model->errorFloor;
             }
     });
+    coverElementsOverClearResin();
 }
 
 }  // namespace pl

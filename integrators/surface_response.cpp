@@ -1,8 +1,10 @@
 #include "integrators/surface_response.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "core/fresnel.h"
+#include "runtime/scheduler.h"
 
 namespace pl {
 
@@ -22,6 +24,35 @@ SurfaceResponse::SurfaceResponse(const Scene& scene, const Sensor& sensor) : sce
     }
     response_.assign(elementCount(), RGB{0, 0, 0});
     errorBound_.assign(elementCount(), RGB{0, 0, 0});
+}
+
+void SurfaceResponse::coverElementsOverClearResin() {
+    constexpr float kDepth_mm = 1.0f, kLeastOpticalDepth = 1.0f;
+    const LabelMedium& medium = *scene_.medium;
+    // Only a grid that holds some resin that clear needs the walk.
+    const std::array<uint64_t, 256> voxels = medium.grid().histogram();
+    bool clear = false;
+    for (int l = 0; l < 256; ++l) {
+        const Material& m = medium.materials().byLabel[size_t(l)];
+        if (voxels[size_t(l)] == 0 || Label(l) == medium.grid().voidLabel() || !m.defined) continue;
+        for (int c = 0; c < kChannels; ++c) clear = clear || m.sigmaT_perMm[c] * kDepth_mm < kLeastOpticalDepth;
+    }
+    if (!clear) return;
+    std::vector<uint8_t> over(elementCount(), 0);
+    parallelForTiles(elementCount(), 256, [&](size_t begin, size_t end) {
+        LabelMedium::Sampler sampler(medium);
+        for (size_t i = begin; i < end; ++i) {
+            const SurfacePoint e = surfacePoint(i);
+            const Ray inward{e.p, -e.normal};
+            bool isOver = false;
+            for (int c = 0; c < kChannels && !isOver; ++c)
+                isOver = sampler.transmittance(inward, kDepth_mm, c) > std::exp(-kLeastOpticalDepth);
+            if (!isOver) continue;
+            over[i] = 1;
+            for (int c = 0; c < kChannels; ++c) errorBound_[i][c] = std::max(response_[i][c], 1.0f - response_[i][c]);
+        }
+    });
+    elementsOverClearResin_ = size_t(std::count(over.begin(), over.end(), uint8_t(1)));
 }
 
 SurfacePoint surfacePointOf(const SurfaceVoxelSensor& surface, size_t i) {

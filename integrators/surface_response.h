@@ -35,6 +35,8 @@ public:
     // Per element: the response and its error bound.
     const std::vector<RGB>& response() const { return response_; }
     const std::vector<RGB>& errorBound() const { return errorBound_; }
+    // Elements over nearly clear resin, whose error is the whole range.
+    size_t elementsOverClearResin() const { return elementsOverClearResin_; }
 
 protected:
     SurfaceResponse(const Scene& scene, const Sensor& sensor);
@@ -44,6 +46,13 @@ protected:
     size_t elementCount() const { return surface_->pixelCount(); }
     SurfacePoint surfacePoint(size_t i) const { return surfacePointOf(*surface_, i); }
 
+    // Called by each predictor once it has filled its elements. Light
+    // that crosses clear resin scatters far from where it entered, which
+    // neither predictor models: an element whose first mm along -normal
+    // has an optical depth under 1 in some channel gets the whole range
+    // as its error (under uniform surroundings a response lies in [0, 1]).
+    void coverElementsOverClearResin();
+
     const Scene& scene_;
     std::vector<RGB> response_, errorBound_;  // filled by the predictor
 
@@ -52,6 +61,7 @@ private:
     RGB radiance(const Ray& ray, int reflectionsLeft, RGB* bound) const;
 
     std::unique_ptr<SurfaceVoxelSensor> ownSurface_;  // when the sensor has no patches
+    size_t elementsOverClearResin_ = 0;
     const SurfaceVoxelSensor* surface_ = nullptr;
 };
 
