@@ -93,10 +93,11 @@ std::vector<LabelGrid::Change> fillShell(const std::vector<Label>& labels, const
     return changes;
 }
 
-std::vector<RGB> reflectance(const SurfacePrediction& p, const RGB& environment) {
-    std::vector<RGB> out(p.radiance.size());
+// Radiance (or its standard error) as reflectance: over the surroundings' radiance.
+std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& environment) {
+    std::vector<RGB> out(radiance.size());
     for (size_t i = 0; i < out.size(); ++i)
-        for (int c = 0; c < 3; ++c) out[i][c] = environment[c] > 0 ? p.radiance[i][c] / environment[c] : 0.0f;
+        for (int c = 0; c < 3; ++c) out[i][c] = environment[c] > 0 ? radiance[i][c] / environment[c] : 0.0f;
     return out;
 }
 
@@ -184,7 +185,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
             predictor.changeLabels(changes);
             const uint32_t spp = predictor.settings().spp;
             predictor.settings().spp = 1;
-            RGB m = meanOf(reflectance(predictor.predict(), environment));
+            RGB m = meanOf(reflectance(predictor.predict().radiance, environment));
             predictor.settings().spp = spp;
             for (auto& c : changes) c.label = labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)];
             predictor.changeLabels(changes);
@@ -213,7 +214,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
     std::vector<RGB> requested = targets;
     double previousScore = 0;
     for (int iteration = 0;; ++iteration) {
-        std::vector<RGB> predicted = reflectance(p, environment);
+        std::vector<RGB> predicted = reflectance(p.radiance, environment);
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
@@ -270,10 +271,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         // same whatever predicted.
         RGB black, white;
         const std::vector<RGB> judgeTargets = mapIntoGamut(judge, black, white);
-        const SurfaceColourError e =
-            surfaceColourError(points_mm, reflectance(judged, environment), judgeTargets);
+        const std::vector<RGB> judgedColours = reflectance(judged.radiance, environment);
+        const SurfaceColourError e = surfaceColourError(points_mm, judgedColours, judgeTargets);
+        // What the judge's own noise adds to its score.
+        const SurfaceColourError noise =
+            noiseColourError(points_mm, judgedColours, reflectance(judged.standardError, environment));
         result.judgement = OptimizeJudgement{judge, settings.judgeSpp, settings.judgeSeed, e.mean,
-                                             e.p95, e.meanFiltered, e.p95Filtered,
+                                             e.p95, e.meanFiltered, e.p95Filtered, noise.mean, noise.meanFiltered,
                                              std::chrono::duration<double>(Clock::now() - j0).count()};
     }
     return result;

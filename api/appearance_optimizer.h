@@ -78,6 +78,9 @@ struct OptimizeJudgement {
     uint64_t seed = 0;
     double meanDeltaE = 0, p95DeltaE = 0;                  // CIEDE2000 per voxel
     double meanDeltaEFiltered = 0, p95DeltaEFiltered = 0;  // over the eye's footprint
+    // The mean CIEDE2000 the judge's own noise makes, per voxel and over
+    // the footprint (compare/surface_colour_error.h, noiseColourError).
+    double noiseDeltaE = 0, noiseDeltaEFiltered = 0;
     double seconds = 0;
 };
 

@@ -8,6 +8,7 @@
 // PREFIX.csv (the same numbers) and PREFIX_labels.vdb (the final labels).
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -191,11 +192,19 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
     std::printf("the loop took %.1f s\n", loopSeconds);
-    if (const auto& j = result.judgement)
+    if (const auto& j = result.judgement) {
         std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): mean CIEDE2000 %.3f, 95th percentile %.3f per voxel; "
                     "over the eye's %g mm footprint %.3f, 95th percentile %.3f\n",
                     j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, j->meanDeltaE, j->p95DeltaE,
                     kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered);
+        // Its noise falls as the square root of its samples.
+        const double wanted = 0.5, enough = std::ceil(j->spp * std::pow(j->noiseDeltaEFiltered / wanted, 2));
+        std::printf("the judge's own noise: about %.2f CIEDE2000 over the footprint (%.2f per voxel)%s\n",
+                    j->noiseDeltaEFiltered, j->noiseDeltaE,
+                    j->noiseDeltaEFiltered > wanted
+                        ? (", --judge-spp " + std::to_string(int64_t(enough)) + " for under 0.5").c_str()
+                        : "");
+    }
     if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
     writeTextFile(csvFile, csv.str());
     LabelGrid final = predictor.labels().withChanges({});

@@ -5,6 +5,7 @@
 
 #include "compare/color_difference.h"
 #include "compare/surface_gaussian.h"
+#include "core/rng.h"
 
 namespace pl {
 
@@ -55,6 +56,20 @@ SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, con
     e.meanFiltered = filtered.mean;
     e.p95Filtered = filtered.p95;
     return e;
+}
+
+SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& colours,
+                                    const std::vector<RGB>& standardErrors, uint64_t seed, float footprintSigma_mm) {
+    std::vector<RGB> moved(colours);
+    for (size_t i = 0; i < moved.size(); ++i) {
+        Rng rng(seed, i);
+        for (int c = 0; c < 3; ++c) {
+            // Box-Muller: one normal deviate from two uniforms.
+            const float u1 = std::max(rng.uniform(), 1e-12f), u2 = rng.uniform();
+            moved[i][c] += standardErrors[i][c] * std::sqrt(-2.0f * std::log(u1)) * std::cos(2.0f * kPi * u2);
+        }
+    }
+    return surfaceColourError(points_mm, moved, colours, footprintSigma_mm);
 }
 
 }  // namespace pl

@@ -5,6 +5,7 @@
 // surface points).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "core/rgb.h"
@@ -33,6 +34,15 @@ DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b);
 // points_mm.
 SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
                                       const std::vector<RGB>& reference, float footprintSigma_mm = kEyeFootprint_mm);
+
+// The CIEDE2000 a render's own noise makes: the error between its colours
+// and the same colours moved by one draw of their standard errors (normal,
+// from `seed`). For noise small against the colours that is distributed
+// as the error against the noiseless colours, so its mean is what the
+// render's noise adds to a comparison (per voxel, and over the footprint).
+SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& colours,
+                                    const std::vector<RGB>& standardErrors, uint64_t seed = 1,
+                                    float footprintSigma_mm = kEyeFootprint_mm);
 
 // A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
 // 5, red 10 and above.

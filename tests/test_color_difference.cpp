@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "compare/color_difference.h"
 #include "compare/surface_colour_error.h"
@@ -85,6 +86,34 @@ TEST(SurfaceGaussian, KeepsConstantsAndRampsAndSpreadsASpike) {
     EXPECT_EQ(e.mean, 0.0);
 }
 
+// The judge's noise estimate: what one more draw of a render's standard
+// errors makes is what its noise made against the truth (per voxel and
+// over the footprint), and none without noise.
+TEST(SurfaceColourError, NoiseEstimateMatchesTheErrorNoiseMakes) {
+    std::vector<Point3f> points;
+    std::vector<RGB> truth;
+    const int n = 80;
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            points.push_back({0.045f * i, 0.045f * j, 1.0f});
+            truth.push_back((i / 10) % 2 ? RGB{0.6f, 0.3f, 0.2f} : RGB{0.1f, 0.4f, 0.5f});  // 0.45 mm stripes
+        }
+    std::mt19937 engine(7);
+    for (float sigma : {0.02f, 0.05f}) {
+        std::normal_distribution<float> normal(0.0f, sigma);
+        std::vector<RGB> noisy(truth), errors(truth.size(), RGB{sigma, sigma, sigma});
+        for (RGB& c : noisy)
+            for (int k = 0; k < 3; ++k) c[k] += normal(engine);
+        const SurfaceColourError actual = surfaceColourError(points, noisy, truth);
+        const SurfaceColourError estimate = noiseColourError(points, noisy, errors);
+        EXPECT_NEAR(estimate.mean, actual.mean, 0.1 * actual.mean) << sigma;
+        EXPECT_NEAR(estimate.meanFiltered, actual.meanFiltered, 0.15 * actual.meanFiltered) << sigma;
+        EXPECT_LT(actual.meanFiltered, 0.5 * actual.mean) << sigma;  // the footprint averages noise out
+    }
+    const SurfaceColourError none = noiseColourError(points, truth, std::vector<RGB>(truth.size(), RGB{0, 0, 0}));
+    EXPECT_EQ(none.mean, 0.0);
+    EXPECT_EQ(none.meanFiltered, 0.0);
+}
+
 }  // namespace
 }  // namespace pl
-
