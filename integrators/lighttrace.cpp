@@ -41,27 +41,6 @@ const SurfaceVoxelSensor& surfaceVoxelSensorOf(const Sensor& sensor) {
     return *s;
 }
 
-// Per channel, over the labels the grid holds (void aside; one pass over
-// the grid): the least extinction, and the largest scattering coefficient
-// (at least 1e-6 /mm).
-struct GridCoefficients {
-    RGB leastSigmaT{1e30f, 1e30f, 1e30f};
-    RGB mostSigmaS{1e-6f, 1e-6f, 1e-6f};
-};
-GridCoefficients gridCoefficientsOf(const Scene& scene) {
-    const std::array<uint64_t, 256> voxels = scene.medium->grid().histogram();
-    GridCoefficients g;
-    for (int l = 0; l < 256; ++l) {
-        if (voxels[l] == 0 || l == scene.medium->grid().voidLabel()) continue;
-        for (int c = 0; c < 3; ++c) {
-            const ChannelLut& lut = scene.medium->lut(c);
-            g.leastSigmaT[c] = std::min(g.leastSigmaT[c], lut.sigmaT_perMm[l]);
-            g.mostSigmaS[c] = std::max(g.mostSigmaS[c], lut.sigmaT_perMm[l] * lut.albedo[l]);
-        }
-    }
-    return g;
-}
-
 // How deep the inward normal lines reach into the object: where the least
 // extinction of the labels in the grid leaves less than 1e-6 of the light
 // (at most the object's diagonal).
@@ -87,7 +66,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)) {
     if (!(options.trackSpacing_mfp > 0.0f)) throw std::invalid_argument("lighttrace: the track spacing must be positive");
-    const GridCoefficients coefficients = gridCoefficientsOf(scene);
+    const GridCoefficients coefficients = gridCoefficientsOf(*scene.medium);
     leastSigmaT_ = coefficients.leastSigmaT;
     const float depth_mm = lineDepthFor_mm(scene, leastSigmaT_);
     for (float fraction : {0.125f, 0.25f, 0.5f, 1.0f})

@@ -30,14 +30,8 @@ void SurfaceResponse::coverElementsOverClearResin() {
     constexpr float kDepth_mm = 1.0f, kLeastOpticalDepth = 1.0f;
     const LabelMedium& medium = *scene_.medium;
     // Only a grid that holds some resin that clear needs the walk.
-    const std::array<uint64_t, 256> voxels = medium.grid().histogram();
-    bool clear = false;
-    for (int l = 0; l < 256; ++l) {
-        const Material& m = medium.materials().byLabel[size_t(l)];
-        if (voxels[size_t(l)] == 0 || Label(l) == medium.grid().voidLabel() || !m.defined) continue;
-        for (int c = 0; c < kChannels; ++c) clear = clear || m.sigmaT_perMm[c] * kDepth_mm < kLeastOpticalDepth;
-    }
-    if (!clear) return;
+    const RGB leastSigmaT = gridCoefficientsOf(medium).leastSigmaT;
+    if (!(std::min({leastSigmaT[0], leastSigmaT[1], leastSigmaT[2]}) * kDepth_mm < kLeastOpticalDepth)) return;
     std::vector<uint8_t> over(elementCount(), 0);
     parallelForTiles(elementCount(), 256, [&](size_t begin, size_t end) {
         LabelMedium::Sampler sampler(medium);

@@ -1,5 +1,7 @@
 #include "media/label_medium.h"
 
+#include <algorithm>
+
 #include "media/collision_events.h"
 
 #include "media/label_tree.h"
@@ -100,6 +102,20 @@ float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int cha
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,
                         medium_.luts_[channel], channel,
                         [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, roulette);
+}
+
+GridCoefficients gridCoefficientsOf(const LabelMedium& medium) {
+    const std::array<uint64_t, 256> voxels = medium.grid().histogram();
+    GridCoefficients g;
+    for (int l = 0; l < 256; ++l) {
+        if (voxels[size_t(l)] == 0 || l == medium.grid().voidLabel()) continue;
+        for (int c = 0; c < 3; ++c) {
+            const ChannelLut& lut = medium.lut(c);
+            g.leastSigmaT[c] = std::min(g.leastSigmaT[c], lut.sigmaT_perMm[size_t(l)]);
+            g.mostSigmaS[c] = std::max(g.mostSigmaS[c], lut.sigmaT_perMm[size_t(l)] * lut.albedo[size_t(l)]);
+        }
+    }
+    return g;
 }
 
 }  // namespace pl

@@ -100,4 +100,13 @@ private:
     std::shared_ptr<const VoxelFields> fields_;
 };
 
+// Per channel, over the labels the grid holds (void aside; one pass over
+// the grid): the least extinction, and the largest scattering coefficient
+// (at least 1e-6 /mm).
+struct GridCoefficients {
+    RGB leastSigmaT{1e30f, 1e30f, 1e30f};
+    RGB mostSigmaS{1e-6f, 1e-6f, 1e-6f};
+};
+GridCoefficients gridCoefficientsOf(const LabelMedium& medium);
+
 }  // namespace pl

@@ -165,8 +165,12 @@ TEST(Diffusion, ElementsOverClearResinReportTheWholeRange) {
         if (v.x < 35 || v.x >= 45 || v.y < 35 || v.y >= 45) continue;
         for (int c = 0; c < 3; ++c) {
             const float R = diffusion.response()[p][c], bound = diffusion.errorBound()[p][c];
-            if (v.z == layers - 1) EXPECT_EQ(bound, std::max(R, 1.0f - R)) << p;
-            if (v.z == 0) EXPECT_LT(bound, 0.5f * R) << p;
+            if (v.z == layers - 1) {
+                EXPECT_EQ(bound, std::max(R, 1.0f - R)) << p;
+            }
+            if (v.z == 0) {
+                EXPECT_LT(bound, 0.5f * R) << p;
+            }
         }
         top += v.z == layers - 1;
         bottom += v.z == 0;

@@ -48,7 +48,9 @@ TEST(HomogeneousCore, RelabelsExactlyTheDeepVoxels) {
                     const Vec3i v{x, y, z};
                     const Label before = grid.label(v), after = cored.label(v);
                     const float d = depthOf(v);
-                    if (d <= depth_mm) ASSERT_EQ(after, before) << depth_mm << " at " << x << "," << y << "," << z;
+                    if (d <= depth_mm) {
+                        ASSERT_EQ(after, before) << depth_mm << " at " << x << "," << y << "," << z;
+                    }
                     if (d > depth_mm + block_mm) {
                         ASSERT_EQ(after, kWhite) << depth_mm << " at " << x << "," << y << "," << z;
                         sure += 1;
