@@ -12,9 +12,10 @@ LabelGrid withHomogeneousCore(const LabelGrid& grid, const Geometry& geometry, f
     const float block_mm = float(1 << SurfaceClearance::kBlockLog2) * length(frame.voxelSize_mm);
     // Queries reach past the depth, so that a block's bound can exceed it.
     const SurfaceClearance clearance(geometry, frame, depth_mm + block_mm);
-    auto visitDeepVoxels = [&](const auto& fn) {
+    // Deep voxels of every label but `skip` (and void).
+    auto visitDeepVoxels = [&](Label skip, const auto& fn) {
         grid.visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
-            if (l == grid.voidLabel()) return;
+            if (l == grid.voidLabel() || l == skip) return;
             for (int z = lo.z; z <= hi.z; ++z)
                 for (int y = lo.y; y <= hi.y; ++y)
                     for (int x = lo.x; x <= hi.x; ++x)
@@ -22,14 +23,13 @@ LabelGrid withHomogeneousCore(const LabelGrid& grid, const Geometry& geometry, f
         });
     };
     std::array<uint64_t, 256> deep{};
-    visitDeepVoxels([&](const Vec3i&, Label l) { deep[l] += 1; });
+    visitDeepVoxels(grid.voidLabel(), [&](const Vec3i&, Label l) { deep[l] += 1; });
     HomogeneousCore found;
     found.label = Label(std::max_element(deep.begin(), deep.end()) - deep.begin());
+    for (uint64_t count : deep) found.coreVoxels += count;
+    // The core's own voxels (most of the deep ones) need no second look.
     std::vector<LabelGrid::Change> changes;
-    visitDeepVoxels([&](const Vec3i& v, Label l) {
-        found.coreVoxels += 1;
-        if (l != found.label) changes.push_back({v, found.label});
-    });
+    visitDeepVoxels(found.label, [&](const Vec3i& v, Label) { changes.push_back({v, found.label}); });
     found.changedVoxels = changes.size();
     if (core) *core = found;
     return grid.withChanges(changes);
