@@ -278,6 +278,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
             noiseColourError(points_mm, judgedColours, reflectance(judged.standardError, environment));
         result.judgement = OptimizeJudgement{judge, settings.judgeSpp, settings.judgeSeed, e.mean,
                                              e.p95, e.meanFiltered, e.p95Filtered, noise.mean, noise.meanFiltered,
+                                             judged.voxelsShareSamples,
                                              std::chrono::duration<double>(Clock::now() - j0).count()};
     }
     return result;

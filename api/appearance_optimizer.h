@@ -81,6 +81,10 @@ struct OptimizeJudgement {
     // The mean CIEDE2000 the judge's own noise makes, per voxel and over
     // the footprint (compare/surface_colour_error.h, noiseColourError).
     double noiseDeltaE = 0, noiseDeltaEFiltered = 0;
+    // The estimate takes each voxel's noise as its own: with samples shared
+    // between voxels (light tracing) the footprint averages less of it out,
+    // and the estimate is a lower bound.
+    bool noiseIsLowerBound = false;
     double seconds = 0;
 };
 

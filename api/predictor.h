@@ -20,6 +20,9 @@ struct SurfacePrediction {
     std::vector<Vec3i> voxels;  // the surface voxels, in sensor order (z, then y, then x)
     std::vector<RGB> radiance, standardError;
     std::vector<uint32_t> samples;  // per voxel (per channel rendered)
+    // Whether voxels share samples (light paths score many): their errors
+    // are then correlated, not independent.
+    bool voxelsShareSamples = false;
     PathStats stats;
     double updateSeconds = 0;  // swapping labels in: grid, majorants, sensor check
     double renderSeconds = 0;

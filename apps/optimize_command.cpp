@@ -199,9 +199,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered);
         // Its noise falls as the square root of its samples.
         const double wanted = 0.5, enough = std::ceil(j->spp * std::pow(j->noiseDeltaEFiltered / wanted, 2));
-        // The estimate takes each voxel's noise as its own; light tracing's
-        // particles score neighbouring voxels together, so there it is low.
-        const bool shared = j->integrator == "lighttrace";
+        const bool shared = j->noiseIsLowerBound;
         std::printf("the judge's own noise: %s %.2f CIEDE2000 over the footprint (%.2f per voxel)%s\n",
                     shared ? "at least" : "about", j->noiseDeltaEFiltered, j->noiseDeltaE,
                     j->noiseDeltaEFiltered > wanted
