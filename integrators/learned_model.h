@@ -28,7 +28,8 @@ struct LearnedModel {
     };
     std::vector<Layer> layers;
     // The error bound of a prediction R: errorShare x R + errorFloor (on
-    // held-out renders, 90 % of voxel channels lie within twice it).
+    // held-out renders, 95 % of voxel channels lie within twice it,
+    // counting the renders' own noise).
     float errorShare = 0, errorFloor = 0;
 
     // Why this model cannot predict a scene with these materials and
