@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <stdexcept>
 
 #include "runtime/distributed.h"
@@ -162,30 +163,30 @@ SurfacePrediction Predictor::predict() {
                 if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
         }
         renderSamples(*integrator, state_->scene, sensor, rs, share, first, count, r);
-        allStats = gatherShares(r, share);
+        allStats = gatherShares(r, share, sensor);
         if (mine.acrossRanks) broadcastFromRankZero(r.film, allStats);
     };
     if (!adaptive_.enabled) {
         renderRound(nullptr, 0, rs.spp);
     } else {
         const AdaptiveSampling& a = adaptive_;
-        uint32_t done = std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp);
-        renderRound(nullptr, 0, done);
-        // Voxels that stop stay stopped (their film does not change), so all
-        // active voxels share one sample count: rounds are deterministic.
-        // Across ranks every rank has the whole film: the same decisions,
-        // but rank 0's clock.
+        renderRound(nullptr, 0, std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp));
+        // Each round renders the voxels that miss the target, in groups of
+        // one sample count (sample s is the same path in any round). A
+        // voxel's error is pooled with its neighbours', so one that met the
+        // target can miss it again when they change: it rejoins. Rounds
+        // are deterministic; across ranks every rank has the whole film:
+        // the same decisions, but rank 0's clock.
         for (;;) {
-            const bool more = done < a.maxSpp && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds);
+            std::map<uint32_t, std::vector<uint32_t>> activeBySamples;
+            for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+                const uint32_t n = r.film.samples(p, rs.channels.front());
+                if (n < a.maxSpp && !converged(r.film, p, rs.channels, a)) activeBySamples[n].push_back(uint32_t(p));
+            }
+            const bool more = !activeBySamples.empty() && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds);
             if (!(mine.acrossRanks ? broadcastFromRankZero(uint32_t(more)) : more)) break;
-            std::vector<uint32_t> active;
-            for (size_t p = 0; p < sensor.pixelCount(); ++p)
-                if (r.film.samples(p, rs.channels.front()) == done && !converged(r.film, p, rs.channels, a))
-                    active.push_back(uint32_t(p));
-            if (active.empty()) break;
-            const uint32_t count = std::min(std::max(a.roundSpp, 1u), a.maxSpp - done);
-            renderRound(&active, done, count);
-            done += count;
+            for (const auto& [done, active] : activeBySamples)
+                renderRound(&active, done, std::min(std::max(a.roundSpp, 1u), a.maxSpp - done));
         }
     }
     SurfacePrediction p;

@@ -30,6 +30,7 @@
 #include <stdexcept>
 
 #include "apps/arguments.h"
+#include "apps/bench_error_check.h"
 #include "apps/command_options.h"
 #include "runtime/distributed.h"
 #include "apps/limit_walk.h"
@@ -387,6 +388,8 @@ int benchCommand(const std::vector<std::string>& argv) {
                    {{"--make-reference", "REF.exr", "render a reference (with --spp, default 256, and --integrator)"},
                     {"--reference", "REF.exr", "the error of each configuration against a reference"},
                     {"--self-variance", "", "the error from each render's own variance (no reference)"},
+                    {"--error-check", "1,2,8", "whether the reported errors are honest at these spp (two seeds each)"},
+                    kSeedOption,
                     {"--budgets", "1,2,4,...", "sample budgets, in multiples of the scene's spp"},
                     {"--configs", "A,B,...", "estimator configurations (default volpath,printpt)"},
                     kSppOption,
@@ -456,6 +459,27 @@ int benchCommand(const std::vector<std::string>& argv) {
             for (int c = 0; c < 3; ++c, ++n) var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
         std::printf("reference %s: %s, %u spp, %.1f s; its own RMS standard error per pixel %.3g\n",
                     makeRefPath->c_str(), s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
+        return 0;
+    }
+
+    if (auto spps = args.value("--error-check")) {
+        std::vector<uint32_t> counts;
+        for (const std::string& n : splitList(*spps)) {
+            long v = 0;
+            try {
+                v = std::stol(n);
+            } catch (const std::exception&) {
+            }
+            if (v < 1 || v > long(RenderSettings::kMostSpp)) throw UsageError("--error-check takes sample counts, e.g. 1,2,8");
+            counts.push_back(uint32_t(v));
+        }
+        std::vector<std::pair<std::string, RenderSettings>> configs;
+        for (const std::string& n : names) configs.emplace_back(n, chosen[n]);
+        const uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX - 1).value_or(11));
+        const std::string md = errorCheckTable(scene, *sensor, configs, counts, seed, acrossRanks);
+        if (!speaks) return 0;
+        writeTextFile(args.value("--out").value_or("bench") + ".md", md);
+        std::fputs(md.c_str(), stdout);
         return 0;
     }
 

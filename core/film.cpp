@@ -2,35 +2,116 @@
 
 #include <unordered_map>
 
+#include "core/sensors.h"
+
 namespace pl {
 
-void Film::poolResiduals() {
-    struct Moment {
+namespace {
+
+// Sums over samples, for a pixel or a window of pixels.
+struct Moments {
+    double count = 0, units = 0, sum = 0, sumSq = 0;
+    // The variance of one sample about the moments' own mean, and whether
+    // the samples were all equal (or fewer than two units).
+    double perSampleVariance() const {
+        return units < 2 ? 0.0 : std::max(0.0, sumSq - sum * sum / count) / (units - 1);
+    }
+    bool flat() const { return units < 2 || sumSq - sum * sum / count <= 1e-12 * sumSq; }
+};
+
+}  // namespace
+
+void Film::poolErrors(const Sensor* sensor) {
+    struct KeyMoment {
         double residualSum = 0, residualSqSum = 0;
         double samples = 0;
     };
-    std::unordered_map<int32_t, Moment> moments;
+    std::unordered_map<int32_t, KeyMoment> moments;
     for (const auto& pixel : acc_)
         for (const Accumulator& a : pixel)
             if (a.poolKey >= 0) {
-                Moment& m = moments[a.poolKey];
+                KeyMoment& m = moments[a.poolKey];
                 m.residualSum += a.residualSum;
                 m.residualSqSum += a.residualSqSum;
                 m.samples += a.pooledSamples;
             }
+    // Per sample: the second moment of a key's residuals (a bound on the
+    // variance) or, pooled where flat, their variance.
+    auto keyVariance = [&](const Accumulator& a) {
+        const KeyMoment& m = moments[a.poolKey];
+        double perSample = m.residualSqSum / m.samples;
+        if (a.poolWhereFlat) {
+            const double mean = m.residualSum / m.samples;
+            perSample = m.samples > 1 ? std::max(0.0, perSample - mean * mean) * m.samples / (m.samples - 1) : 0.0;
+        }
+        return perSample;
+    };
     for (auto& pixel : acc_)
         for (Accumulator& a : pixel) {
             if (a.poolKey < 0 || a.count == 0) continue;
-            const Moment& m = moments[a.poolKey];
-            // Variance of the mean of n samples, pooledSamples of them with
-            // the key's residual second moment (a bound on the variance) or,
-            // pooled where flat, the key's residual variance.
-            double perSample = m.residualSqSum / m.samples;
-            if (a.poolWhereFlat) {
-                const double mean = m.residualSum / m.samples;
-                perSample = m.samples > 1 ? std::max(0.0, perSample - mean * mean) * m.samples / (m.samples - 1) : 0.0;
+            a.pooledError = float(std::sqrt(keyVariance(a) * a.pooledSamples) / a.count);
+        }
+
+    // The neighbourhood in the sensor's image: pixel by image position.
+    const int width = sensor ? sensor->imageWidth() : 0, height = sensor ? sensor->imageHeight() : 0;
+    std::vector<int32_t> pixelAt(size_t(width) * size_t(height), -1);
+    std::vector<int64_t> imageIndex(acc_.size(), -1);
+    for (size_t p = 0; sensor && p < acc_.size(); ++p) {
+        imageIndex[p] = sensor->pixelImageIndex(p);
+        if (imageIndex[p] >= 0) pixelAt[size_t(imageIndex[p])] = int32_t(p);
+    }
+    // A pixel's samples: their residuals where they have a key (every
+    // sample then has one), their values otherwise.
+    auto momentsOf = [](const Accumulator& a) {
+        if (a.poolKey >= 0) return Moments{double(a.pooledSamples), double(a.pooledSamples), a.residualSum, a.residualSqSum};
+        return Moments{double(a.count), double(a.units), a.sum, a.sumSq};
+    };
+    for (size_t p = 0; p < acc_.size(); ++p)
+        for (int c = 0; c < kChannels; ++c) {
+            Accumulator& a = acc_[p][size_t(c)];
+            const int kind = windowKind(a);
+            if (kind == 0) continue;
+            Moments window;
+            auto addPixel = [&](size_t q) {
+                const Accumulator& b = acc_[q][size_t(c)];
+                if (windowKind(b) != kind) return;
+                const Moments m = momentsOf(b);
+                window.count += m.count;
+                window.units += m.units;
+                window.sum += m.sum;
+                window.sumSq += m.sumSq;
+            };
+            if (imageIndex[p] < 0) addPixel(p);
+            else {
+                const int x = int(imageIndex[p] % width), y = int(imageIndex[p] / width);
+                for (int dy = -kWindowRadius; dy <= kWindowRadius; ++dy)
+                    for (int dx = -kWindowRadius; dx <= kWindowRadius; ++dx) {
+                        const int qx = x + dx, qy = y + dy;
+                        if (qx < 0 || qy < 0 || qx >= width || qy >= height) continue;
+                        const int32_t q = pixelAt[size_t(qy) * size_t(width) + size_t(qx)];
+                        if (q >= 0) addPixel(size_t(q));
+                    }
             }
-            a.pooledError = float(std::sqrt(perSample * a.pooledSamples) / a.count);
+            // The window's variance (the key's where it is flat) as a prior
+            // worth at most kWindowDegreesOfFreedom, and the pixel's own
+            // with units - 1.
+            const Moments own = momentsOf(a);
+            double prior = window.perSampleVariance(), priorDof = std::min(window.units - 1, kWindowDegreesOfFreedom);
+            if (window.flat() && a.poolKey >= 0) {
+                prior = keyVariance(a);
+                priorDof = kWindowDegreesOfFreedom;
+            }
+            const double ownDof = own.units - 1;
+            const double perSample = priorDof + ownDof > 0
+                                         ? (priorDof * prior + ownDof * own.perSampleVariance()) / (priorDof + ownDof)
+                                         : 0.0;
+            // The mean's variance: own.count random parts in a.count samples.
+            // Under a control, at least the key's bound: where the key's
+            // pixels are alike (a half-space control) the whole render sees
+            // its rare partings better than any window.
+            const double shrunk = std::sqrt(perSample * own.count) / double(a.count);
+            a.pooledError = float(kind == 1 ? std::max(shrunk, double(a.pooledError)) : shrunk);
+            a.pooledOverWindow = true;
         }
 }
 

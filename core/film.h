@@ -14,28 +14,36 @@
 
 namespace pl {
 
+class Sensor;
+
 // One sample of one channel as an estimator returns it: its value, and
 // what its error has that the spread of a pixel's samples cannot show.
 //  - sharedError: the standard error it shares with every other sample
 //    that used the same estimated quantity (printpt's Monte Carlo control
 //    means, the round-off of an exact one);
-//  - poolKey, residual: a sample whose randomness is concentrated in rare
-//    events (printpt's control-variate residual f - g, zero until the two
-//    walks part; or what an uncontrolled walk brought, mostly 0 in dark
-//    resin) names the kind it belongs to (>= 0) and its random part;
-//    the second moment of the residuals is pooled over every sample of
-//    that kind in the render, since a pixel's own few samples may not have
-//    met one of the events.
-//  - poolWhereFlat: the pooled error stands in only where a pixel's
-//    samples are all equal (a walk that is almost always absorbed gives
-//    the same value every time, and its spread 0 says nothing of the rare
-//    walks that bring light); otherwise it is a bound beside the spread.
+//  - poolKey, residual: the kind of sample (>= 0) and its random part
+//    (printpt's control-variate residual f - g, zero until the two walks
+//    part; or what an uncontrolled walk brought, mostly 0 in dark resin).
+//    The variance of the residuals is what poolErrors shrinks towards the
+//    neighbourhood's; where a whole neighbourhood's are equal, the key's,
+//    pooled over the render, stands in (rare events no pixel met).
+//  - poolWhereFlat: the key's pool is the residuals' variance (samples
+//    without a control) rather than their second moment (a control's
+//    residuals, whose mean is about 0: a bound).
+//  - withinVariance (where hasWithinVariance): the variance of a part of
+//    the value that the sample estimated from within, from many independent
+//    pieces (a block of light paths: its particles' squared scores,
+//    LightBlockScores). That part's error is this estimate, at any number
+//    of samples, and the residual, the rest's random part, is pooled where
+//    flat or else taken from its own spread.
 struct ChannelSample {
     float value = 0.0f;
     float sharedError = 0.0f;
     int32_t poolKey = -1;  // -1: none
     float residual = 0.0f;
     bool poolWhereFlat = false;
+    bool hasWithinVariance = false;
+    float withinVariance = 0.0f;
 };
 
 class Film {
@@ -58,6 +66,10 @@ public:
             a.residualSqSum += double(sample.residual) * sample.residual;
             a.pooledSamples += 1;
         }
+        if (sample.hasWithinVariance) {
+            a.hasWithinVariance = true;
+            a.withinVarianceSum += sample.withinVariance;
+        }
     }
     // A group of k samples that must count as one unit for the variance:
     // samples drawn together by stratification (hero channels going round
@@ -69,13 +81,26 @@ public:
         a.count += k;
         a.units += 1;
     }
-    // Pools the residuals' second moments per key over all pixels (in pixel
-    // order: the same bits whatever the threads) and sets every pooled
-    // pixel's pooledError: from the second moment (a bound; control
-    // residuals, whose mean is about 0), or for keys pooled where flat from
-    // the variance over the key's samples (samples that never vary, as in
-    // a white furnace, have none). Call after adding samples.
-    void poolResiduals();
+    // Sets the errors that pooling gives (call after adding samples; the
+    // same bits whatever the threads). Each pixel's variance is shrunk
+    // towards its neighbourhood's, the pixels within kWindowRadius in the
+    // sensor's image whose samples are of the same kind (with a control,
+    // pooled where flat, or neither): a pixel's own few samples say little
+    // of its variance (from two, a ratio with Cauchy-like tails), its
+    // neighbours, which see nearly the same light, say more. The variances
+    // are of the samples' random parts (residuals) where they have a key,
+    // of their values otherwise. Where the whole window's are flat (a
+    // control's walks never parted, every walk was absorbed), the key's,
+    // pooled over the render, stands in: for controlled samples the
+    // residuals' second moment (a bound, and the least error they report),
+    // for the others their variance. Without a sensor the window is the
+    // pixel alone.
+    void poolErrors(const Sensor* sensor = nullptr);
+    // The neighbourhood: pixels within this many image pixels along each
+    // axis (a 5 x 5 window), and the most degrees of freedom its variance
+    // counts for beside the pixel's own (units - 1).
+    static constexpr int kWindowRadius = 2;
+    static constexpr double kWindowDegreesOfFreedom = 8.0;
 
     uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
     float mean(size_t pixel, int channel) const {
@@ -92,24 +117,21 @@ public:
         double var = std::max(0.0, (a.sumSq - a.count * m * m) / (double(a.count) * (a.units - 1)));
         return float(std::sqrt(var));
     }
-    // The standard error of the mean from the pooled second moment of its
-    // samples' residuals (poolResiduals); 0 where none was pooled.
+    // The standard error of the mean that pooling gave (poolErrors); 0
+    // before pooling or where nothing was pooled.
     float pooledError(size_t pixel, int channel) const { return acc_[pixel][channel].pooledError; }
-    // The error independent of other pixels': the larger of the spread and
-    // the pooled estimate (both estimate it; the pooled one also where the
-    // pixel's samples missed the rare events), or, for samples pooled
-    // where flat, the spread unless the samples are all equal.
+    // The error independent of other pixels':
+    //  - with a part estimated from within (withinVariance): that estimate,
+    //    and the rest's random part, pooled where flat or its own spread;
+    //  - otherwise, once pooled, the variance shrunk towards the
+    //    neighbourhood's (poolErrors); before, the spread.
     float independentError(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
-        const float spread = spreadError(pixel, channel);
-        if (a.poolWhereFlat) {
-            // Flat: the random parts were all equal (the values may still
-            // differ by deterministic parts, as F Le with shading normals).
-            const double n = a.pooledSamples;
-            const bool flat = n < 2 || a.residualSqSum - a.residualSum * a.residualSum / n <= 1e-12 * a.residualSqSum;
-            return flat ? pooledError(pixel, channel) : spread;
+        if (a.hasWithinVariance) {
+            const double rest = a.poolKey < 0 ? 0.0 : residualFlat(a) ? pooledError(pixel, channel) : residualSpread(a);
+            return float(std::sqrt(double(a.withinVarianceSum) / (double(a.count) * a.count) + rest * rest));
         }
-        return std::max(spread, pooledError(pixel, channel));
+        return a.pooledOverWindow ? a.pooledError : spreadError(pixel, channel);
     }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
@@ -145,6 +167,26 @@ public:
     }
 
 private:
+    struct Accumulator;
+    // The kind of a pixel's samples, for its neighbourhood: 0 with a part
+    // estimated from within (no window), 1 with a control, 2 pooled where
+    // flat, 3 neither.
+    static int windowKind(const Accumulator& a) {
+        if (a.count == 0 || a.hasWithinVariance) return 0;
+        return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
+    }
+    // Whether a pixel's pooled samples' residuals were all equal (or fewer than two).
+    static bool residualFlat(const Accumulator& a) {
+        const double n = a.pooledSamples;
+        return n < 2 || a.residualSqSum - a.residualSum * a.residualSum / n <= 1e-12 * a.residualSqSum;
+    }
+    // The standard error of the mean that the spread of the residuals gives.
+    static double residualSpread(const Accumulator& a) {
+        const double n = a.pooledSamples;
+        if (n < 2) return 0.0;
+        const double perSample = std::max(0.0, a.residualSqSum - a.residualSum * a.residualSum / n) / (n - 1);
+        return std::sqrt(perSample * n) / a.count;
+    }
     struct Accumulator {
         double sum = 0, sumSq = 0;
         double sharedErrorSum = 0;  // of the samples' shared standard errors
@@ -155,7 +197,10 @@ private:
         uint32_t pooledSamples = 0;
         int32_t poolKey = -1;
         bool poolWhereFlat = false;
+        bool hasWithinVariance = false;
+        bool pooledOverWindow = false;  // pooledError is the whole independent error
         float pooledError = 0;
+        float withinVarianceSum = 0;  // of the samples' withinVariance
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;
 };

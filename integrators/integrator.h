@@ -90,6 +90,11 @@ inline Ray enteringRay(const Scene& scene, const Ray& camera, const SurfaceHit& 
 inline int32_t entryPoolKey(int channel, Label entryLabel) {
     return (int32_t(1) << 24) + int32_t(channel) * 256 + int32_t(entryLabel);
 }
+// The same for a part of a sample that must not pool with whole samples
+// (light tracing's camera side, whose light side is estimated apart).
+inline int32_t entryPoolKeyOfPart(int channel, Label entryLabel) {
+    return (int32_t(1) << 25) + int32_t(channel) * 256 + int32_t(entryLabel);
+}
 
 // The path an estimator traces for one channel, or for all three with the
 // chosen sampling: trace(path) returns the radiance it gathers.
@@ -102,6 +107,21 @@ RGB traceThreeChannels(const Scene& scene, ChannelSampling sampling, int hero, T
     if (sampling == ChannelSampling::Spectral) return trace(SpectralPath{&scene.medium->luts(), scene.environment});
     return trace(HeroPath{&scene.medium->luts(), scene.environment, hero});
 }
+
+// One block of light paths' scores per pixel. The block's particles are
+// independent, so the variance of a pixel's score is the sum of each
+// particle's, which the sum of the particles' squared scores (each
+// particle's whole score in the pixel, squared) estimates, without bias for
+// particles that enter anywhere with one density and conservatively where
+// entries are stratified (it also counts each particle's mean squared).
+// It rests on every particle that reached the pixel, not on a few blocks.
+struct LightBlockScores {
+    std::vector<double> score, scoreSq;
+    void assign(size_t pixels) {
+        score.assign(pixels, 0.0);
+        scoreSq.assign(pixels, 0.0);
+    }
+};
 
 class Integrator {
 public:
@@ -119,11 +139,11 @@ public:
 
     // Estimators that also trace paths from the light (lighttrace) score,
     // for sample `sample` of a channel's pass, one block of light paths into
-    // every pixel: perPixel[p] (zeroed by the caller) is added to pixel p's
-    // camera sample. Blocks are independent, so a pixel's samples stay
-    // independent and its spread is batch means over blocks.
+    // every pixel: block.score[p] (zeroed by the caller) is added to pixel
+    // p's camera sample, and block.scoreSq[p], the block's own estimate of
+    // that score's variance, goes with it (LightBlockScores).
     virtual bool scoresLightPaths() const { return false; }
-    virtual void scoreLightBlock(int /*channel*/, uint32_t /*sample*/, std::vector<double>& /*perPixel*/,
+    virtual void scoreLightBlock(int /*channel*/, uint32_t /*sample*/, LightBlockScores& /*block*/,
                                  PathStats& /*stats*/) const {}
     // With light paths: the camera's share of pixel p's sample, what the
     // light paths do not score there.

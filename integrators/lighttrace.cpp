@@ -142,23 +142,35 @@ ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMe
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     stats.paths += 1;
+    // The light side adds its block's score and that score's variance; the
+    // camera side's own random part (the transmittance and the far
+    // boundary's light) is pooled over the entries into the same label
+    // where a pixel's are all equal (Film).
+    ChannelSample sample;
+    sample.hasWithinVariance = true;
     auto entry = geometry.intersect(ray);
-    if (!entry) return {Le};
+    if (!entry) {
+        sample.value = Le;
+        return sample;
+    }
     // The sensor's ray runs along the patch's inward normal: the light
     // leaving along the normal is reflected (F at normal incidence) or comes
     // straight along the line from inside.
     const float F = fresnelDielectric(-dot(ray.d, entry->ng), scene_.ior);
+    sample.value = F * Le;
     const Ray inward = geometry.spawnRay(entry->p, entry->ng, ray.d);
+    sample.poolKey = entryPoolKeyOfPart(channel, medium.labelAt(scene_.medium->voxelAt(inward.o)));
+    sample.poolWhereFlat = true;
     auto far = geometry.intersectFromInside(inward);
     if (!far) {
         stats.leaks += 1;
-        return {F * Le};
+        return sample;
     }
     // Unscattered along the first segment (the light side has the rest).
     const Ray fromSurface{inward.o - inward.d * inward.mediumBefore_mm, inward.d};
     const float T = medium.transmittance(fromSurface, far->t + inward.mediumBefore_mm, channel,
                                          TransmittanceRoulette{kConnectionRouletteDepth, &rng});
-    if (T <= 0.0f) return {F * Le};
+    if (T <= 0.0f) return sample;
     // At the far boundary: the environment transmitted in, or what
     // arrives there along the mirror direction, reflected (volpath).
     const Vec3f n = -far->ns;  // facing against the ray
@@ -166,10 +178,24 @@ ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMe
     float Lfar = (1.0f - Ffar) * Le;
     if (rng.uniform() < Ffar)
         Lfar += volpath_.Li(reflectedInside(geometry, inward.d, *far), channel, medium, rng, stats).value;
-    return {F * Le + (1.0f - F) * T * Lfar};
+    sample.residual = (1.0f - F) * T * Lfar;
+    sample.value += sample.residual;
+    return sample;
 }
 
-void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const {
+void LightTrace::ParticleTally::endParticle() {
+    // Each pixel's whole score from the particle, squared.
+    std::sort(particle.begin(), particle.end());
+    for (size_t i = 0; i < particle.size();) {
+        const uint32_t pixel = particle[i].first;
+        double sum = 0;
+        for (; i < particle.size() && particle[i].first == pixel; ++i) sum += particle[i].second;
+        scoreSq[pixel] += float(sum * sum);
+    }
+    particle.clear();
+}
+
+void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores& block, PathStats& stats) const {
     const double Le = scene_.environment[channel];
     // Nothing to score into: no particles.
     if (!(Le > 0.0) || cameraOnlyPixels(channel) == sensor_.pixelCount()) return;
@@ -184,12 +210,14 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
     // What the block's parts share out: pixels (stratified) or particles.
     const uint64_t units = stratified ? sensor_.pixelCount()
                                       : std::max<uint64_t>(1, uint64_t(std::llround(particlesPerPixel * double(sensor_.pixelCount()))));
-    std::vector<std::vector<double>> tallies(kBlockParts);
+    std::vector<ParticleTally> tallies(kBlockParts);
+    const size_t pixels = block.score.size();
     std::vector<PathStats> partStats(kBlockParts);
     parallelForTiles(kBlockParts, 1, [&](size_t begin, size_t end) {
         LabelMedium::Sampler medium(*scene_.medium, majorants_);
         for (size_t part = begin; part < end; ++part) {
-            tallies[part].assign(perPixel.size(), 0.0);
+            tallies[part].score.assign(pixels, 0.0);
+            tallies[part].scoreSq.assign(pixels, 0.0f);
             for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
                 if (interruptRequested()) return;
                 Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
@@ -214,7 +242,11 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, std::vector<doubl
         }
     });
     for (size_t part = 0; part < kBlockParts; ++part) {
-        for (size_t p = 0; p < perPixel.size() && !tallies[part].empty(); ++p) perPixel[p] += tallies[part][p];
+        const ParticleTally& t = tallies[part];
+        for (size_t p = 0; p < pixels && !t.score.empty(); ++p) {
+            block.score[p] += t.score[p];
+            block.scoreSq[p] += double(t.scoreSq[p]);
+        }
         stats += partStats[part];
     }
 }
@@ -229,7 +261,7 @@ SurfaceHit LightTrace::entryOnMesh(Rng& rng) const {
 }
 
 void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium,
-                               Rng& rng, std::vector<double>& perPixel, PathStats& stats) const {
+                               Rng& rng, ParticleTally& tally, PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
     const ChannelLut& lut = scene_.medium->lut(channel);
     // Light arriving from the cosine-weighted hemisphere (pdf cos / pi,
@@ -293,8 +325,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             auto hit = geometry.intersect(toSurface, line.s_mm + visibilityTolerance_mm);
             if (!hit || hit->t < line.s_mm - visibilityTolerance_mm) return;
             const float phase = hgPhase(dot(dIn, line.normal), lut.g[label]);
-            perPixel[*pixel] +=
-                weight * double(weightFactor * p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel);
+            tally.add(*pixel, weight * double(weightFactor * p.beta * phase * T * exitFactor) / patches_.area_mm2(*pixel));
         });
     };
     const bool alongTracks = options_.scoring == LightTraceOptions::Scoring::Tracks;
@@ -324,6 +355,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
         }
     };
     walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, onFlight, onCollision);
+    tally.endParticle();
 }
 
 }  // namespace pl

@@ -13,14 +13,15 @@
 //    line holds them, through the transmittance to the surface, the phase
 //    function towards the normal, the Fresnel transmission out and 1/n^2.
 // Each sample of a pixel is its camera sample plus one block of particles'
-// score: the blocks are independent, so the spread of a pixel's samples is
-// batch means over blocks and covers the light side's error. Separate
-// channel passes only.
+// score, with the block's own estimate of that score's variance from its
+// particles (LightBlockScores): honest from one sample on, where the
+// spread of a few blocks is not. Separate channel passes only.
 #pragma once
 
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/prism_index.h"
@@ -74,7 +75,7 @@ public:
     // control go to printpt.
     void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
     bool scoresLightPaths() const override { return true; }
-    void scoreLightBlock(int channel, uint32_t sample, std::vector<double>& perPixel, PathStats& stats) const override;
+    void scoreLightBlock(int channel, uint32_t sample, LightBlockScores& block, PathStats& stats) const override;
     // The reflection and the unscattered light of the line's first segment
     // where the light side scores; elsewhere printpt's whole estimate
     // (patches too small for the light side, and entries where printpt's
@@ -92,14 +93,28 @@ public:
     size_t cameraOnlyPixels(int channel) const;
 
 private:
+    // One part of a block's particles, traced by one thread: their scores
+    // per pixel, and per pixel the sum of each particle's squared score
+    // (float: a variance needs no more), for which the current particle's
+    // scores are kept until it ends.
+    struct ParticleTally {
+        std::vector<double> score;
+        std::vector<float> scoreSq;
+        std::vector<std::pair<uint32_t, double>> particle;
+        void add(uint32_t pixel, double value) {
+            score[pixel] += value;
+            particle.emplace_back(pixel, value);
+        }
+        void endParticle();
+    };
     // Sets emissionShare_ from lightServes_.
     void decideEmissionShares();
     // A point uniform by area over the mesh.
     SurfaceHit entryOnMesh(Rng& rng) const;
     // One particle's walk from the environment through `entry`, scoring
-    // into perPixel with its starting weight.
+    // into the tally with its starting weight.
     void traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium, Rng& rng,
-                       std::vector<double>& perPixel, PathStats& stats) const;
+                       ParticleTally& tally, PathStats& stats) const;
 
     const Scene& scene_;
     const SurfaceVoxelSensor& sensor_;

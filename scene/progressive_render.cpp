@@ -77,7 +77,7 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
         runOnEveryRank([&] { renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result); },
                        share.acrossRanks);
         out.spp += round;
-        allStats = gatherShares(out.result, share);
+        allStats = gatherShares(out.result, share, sensor);
         out.result.seconds = elapsed();
         uint32_t next = 0;
         std::exception_ptr failure;

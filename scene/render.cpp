@@ -25,7 +25,8 @@ std::vector<int> passesOf(const RenderSettings& settings) {
 
 // One channel's samples with light paths (Integrator::scoreLightBlock):
 // sample by sample, the block of light paths, then every pixel's camera
-// sample plus what the block scored there. Across MPI ranks the samples
+// sample plus what the block scored there, with the block's own estimate
+// of that score's variance. Across MPI ranks the samples
 // go in waves of one block per rank, each rank receiving every block's
 // scores at its own pixels (runtime/distributed.h): a pixel's samples are
 // the same sums in the same order as in one process.
@@ -37,16 +38,22 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
     std::mutex statsMutex;
     for (uint32_t wave = firstSample; wave < firstSample + count; wave += uint32_t(ranks)) {
         const int blocks = int(std::min<uint32_t>(uint32_t(ranks), firstSample + count - wave));
-        std::vector<double> mine;
+        LightBlockScores mine;
         if (rank < blocks) {
-            mine.assign(sensor.pixelCount(), 0.0);
+            mine.assign(sensor.pixelCount());
             integrator.scoreLightBlock(channel, wave + uint32_t(rank), mine, result.stats);
         }
         // Across ranks: by position in this rank's share; in one process:
         // by pixel.
-        const std::vector<std::vector<double>> light =
-            share.acrossRanks ? shareBlocksByPixel(std::move(mine), sensor.pixelCount(), blocks)
-                              : std::vector<std::vector<double>>{std::move(mine)};
+        std::vector<LightBlockScores> light(1);
+        if (share.acrossRanks) {
+            std::vector<std::vector<double>> scores = shareBlocksByPixel(std::move(mine.score), sensor.pixelCount(), blocks);
+            std::vector<std::vector<double>> squares = shareBlocksByPixel(std::move(mine.scoreSq), sensor.pixelCount(), blocks);
+            light.resize(size_t(blocks));
+            for (int k = 0; k < blocks; ++k) light[size_t(k)] = {std::move(scores[size_t(k)]), std::move(squares[size_t(k)])};
+        } else {
+            light[0] = std::move(mine);
+        }
         for (int k = 0; k < blocks; ++k) {
             const uint32_t s = wave + uint32_t(k);
             parallelForTiles(n, 64, [&](size_t begin, size_t end) {
@@ -59,7 +66,9 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     ChannelSample sample =
                         integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
-                    sample.value += float(light[size_t(k)][share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p]);
+                    const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
+                    sample.value += float(light[size_t(k)].score[at]);
+                    sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
                     result.film.add(p, channel, sample);
                 }
                 progress.advance(end - begin);
@@ -146,7 +155,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     }
     throwIfInterrupted();
     progress.finish();
-    if (!share.acrossRanks) result.film.poolResiduals();  // across ranks: rank 0, once gathered
+    if (!share.acrossRanks) result.film.poolErrors(&sensor);  // across ranks: rank 0, once gathered
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -158,11 +167,11 @@ bool rendersChannelsInOnePass(const RenderSettings& settings) {
     return seen[0] && seen[1] && seen[2];
 }
 
-PathStats gatherShares(RenderResult& result, const PixelShare& share) {
+PathStats gatherShares(RenderResult& result, const PixelShare& share, const Sensor& sensor) {
     PathStats all = result.stats;
     if (!share.acrossRanks) return all;
     gatherOnRankZero(result.film, all, share.pixels);
-    if (Distributed::rank() == 0) result.film.poolResiduals();
+    if (Distributed::rank() == 0) result.film.poolErrors(&sensor);
     return all;
 }
 
@@ -212,7 +221,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     };
     runOnEveryRank(make, share.acrossRanks);
     runOnEveryRank(work, share.acrossRanks);
-    result.stats = gatherShares(result, share);
+    result.stats = gatherShares(result, share, sensor);
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (share.acrossRanks)
         result.communicationShare =

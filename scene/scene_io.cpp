@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/film.h"
 #include "runtime/memory_budget.h"
 #include "scene/homogeneous_core.h"
 #include "scene/registry.h"
@@ -255,8 +256,10 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 // larger of its two stages, per surface voxel (measured on the 10 mm
 // greek cube, docs/performance.md "Tray-sized models"):
 //  - the render: the sensor (80 bytes; with the patch footprint its
-//    patches, 340), the film (192), the result grid (70), lighttrace's
-//    light tallies (136), and 56 bytes per atlas pixel for the images;
+//    patches, 340), the film (Film::packedBytesPerPixel, 216), the result
+//    grid (70), lighttrace's light tallies (16 parts of a double score
+//    and a float square, and the block's two doubles: 208), and 56 bytes
+//    per atlas pixel for the images;
 //  - the .glb after it: the sensor, the colours (12) and, with the ray
 //    footprint, the patches made for it (460 while they are built).
 void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
@@ -265,7 +268,8 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const uint64_t S = surfaceVoxels;
     auto peakBytes = [&](bool patch, bool lighttrace) {
         const uint64_t sensorBytes = (patch ? 340 : 80) * S;
-        const uint64_t renderBytes = sensorBytes + (192 + 70 + (lighttrace ? 136 : 0)) * S + 56 * atlasPixels;
+        const uint64_t renderBytes =
+            sensorBytes + (Film::packedBytesPerPixel() + 70 + (lighttrace ? 208 : 0)) * S + 56 * atlasPixels;
         const uint64_t glbBytes = sensorBytes + 12 * S + (patch ? 0 : 460 * S);
         return std::max(renderBytes, glbBytes);
     };

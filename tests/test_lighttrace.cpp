@@ -1,11 +1,10 @@
 // lighttrace (integrators/lighttrace.h) against the exact white furnace
 // and against volpath with the same patch footprint, voxel by voxel, on
 // boxes of one material and of a halftone, with and without a refractive
-// boundary. Tolerances come from the standard errors both report. A
-// voxel's light-side score comes from the few particles that scatter under
-// it, a skewed distribution whose spread over few blocks under-reads the
-// error: the blocks here hold 4 particles per voxel (at 1, about 1 % of
-// the values of these small boxes lie beyond 4 sigma).
+// boundary. Tolerances come from the standard errors both report (a
+// voxel's light-side error from its particles' squared scores; the blocks
+// here hold 4 particles per voxel). tests/test_error_honesty.cpp checks
+// those errors at the default of 1.
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 

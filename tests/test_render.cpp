@@ -131,7 +131,8 @@ TEST(AbsorbingSlab, BeerLambertBehindFresnelBoundary) {
 // Samples whose randomness hides in rare events (printpt's control
 // residuals) pool their residuals' second moment per key: a pixel whose own
 // samples all came out equal still gets the error its key's samples show,
-// the spread where it is larger, and the shared error on top.
+// shrunk with the pixel's own spread where it has one, and the shared
+// error on top.
 TEST(Film, PoolsResidualsPerKeyAndAddsSharedErrors) {
     Film f(3);
     for (int s = 0; s < 4; ++s) {
@@ -139,17 +140,37 @@ TEST(Film, PoolsResidualsPerKeyAndAddsSharedErrors) {
         f.add(1, 0, ChannelSample{s == 0 ? 2.5f : 0.5f, 0.0f, 7, s == 0 ? 2.0f : 0.0f});
         f.add(2, 0, ChannelSample{0.5f, 0.001f, 9, 0.0f});
     }
-    f.poolResiduals();
+    f.poolErrors();
     EXPECT_EQ(f.spreadError(0, 0), 0.0f);
-    // Key 7: 8 samples, residuals squared summing to 4: 0.5 per sample; a
-    // mean of 4 samples: sqrt(4 x 0.5) / 4.
-    EXPECT_FLOAT_EQ(f.pooledError(0, 0), std::sqrt(2.0f) / 4.0f);
-    EXPECT_FLOAT_EQ(f.standardError(0, 0), std::sqrt(2.0f) / 4.0f);
-    EXPECT_FLOAT_EQ(f.standardError(1, 0), std::max(f.spreadError(1, 0), f.pooledError(1, 0)));
-    EXPECT_GT(f.spreadError(1, 0), f.pooledError(1, 0));
+    // Key 7: 8 samples, residuals squared summing to 4: 0.5 per sample, a
+    // bound that controlled samples report at least. Pixel 0's window
+    // (itself) is flat: the key's 0.5 with the window's weight and its own
+    // 0 with 3 degrees of freedom, less than the bound.
+    EXPECT_FLOAT_EQ(f.standardError(0, 0), std::sqrt(0.5f / 4));
+    // Pixel 1's own residuals (2, 0, 0, 0): variance 1 per sample, its own
+    // window: all its weight, more than the bound.
+    EXPECT_NEAR(f.standardError(1, 0), std::sqrt(1.0 / 4), 1e-6);
     // Key 9 met no event: only the shared error.
-    EXPECT_EQ(f.pooledError(2, 0), 0.0f);
     EXPECT_FLOAT_EQ(f.standardError(2, 0), 0.001f);
+}
+
+// A pixel's variance is shrunk towards its neighbours' in the sensor's
+// image: one sample of its own says nothing, its neighbours' do.
+TEST(Film, OneSampleTakesItsNeighboursVariance) {
+    MaterialTable t = test::tableOf({{0, material({10, 10, 10}, {0.9f, 0.9f, 0.9f})}});
+    Scene scene = test::boxScene({8, 8, 8}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(0); }, t, 1.0f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    Film f(sensor.pixelCount());
+    // Samples of no key, 0 or 1 by a coin per pixel: a variance near 0.25
+    // in every window, whatever a pixel's own value.
+    for (size_t p = 0; p < sensor.pixelCount(); ++p) f.add(p, 0, float(mix64(p) % 2));
+    EXPECT_EQ(f.standardError(0, 0), 0.0f);  // before pooling: one sample, no spread
+    f.poolErrors(&sensor);
+    for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+        EXPECT_GT(f.standardError(p, 0), 0.3f) << p;
+        EXPECT_LT(f.standardError(p, 0), 0.6f) << p;
+    }
 }
 
 TEST(Film, GroupsOfStratifiedSamplesAreTheUnitsOfTheVariance) {
