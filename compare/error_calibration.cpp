@@ -31,7 +31,7 @@ ErrorCalibration calibrateErrors(const PixelResults& a, const PixelResults& b, c
             if (std::abs(z) > 4) ++e.beyondFour;
         }
     }
-    for (int c = 0; c < 3; ++c) e.meanZSq[size_t(c)] = e.perChannel[size_t(c)] ? zSqSum[size_t(c)] / double(e.perChannel[size_t(c)]) : 0.0;
+    for (size_t c = 0; c < 3; ++c) e.meanZSq[c] = e.perChannel[c] ? zSqSum[c] / double(e.perChannel[c]) : 0.0;
     return e;
 }
 

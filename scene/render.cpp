@@ -47,10 +47,11 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
         // by pixel.
         std::vector<LightBlockScores> light(1);
         if (share.acrossRanks) {
-            std::vector<std::vector<double>> scores = shareBlocksByPixel(std::move(mine.score), sensor.pixelCount(), blocks);
-            std::vector<std::vector<double>> squares = shareBlocksByPixel(std::move(mine.scoreSq), sensor.pixelCount(), blocks);
+            const size_t pixels = sensor.pixelCount();
+            std::vector<std::vector<double>> scores = shareBlocksByPixel(std::move(mine.score), pixels, blocks);
+            std::vector<std::vector<double>> squares = shareBlocksByPixel(std::move(mine.scoreSq), pixels, blocks);
             light.resize(size_t(blocks));
-            for (int k = 0; k < blocks; ++k) light[size_t(k)] = {std::move(scores[size_t(k)]), std::move(squares[size_t(k)])};
+            for (size_t k = 0; k < size_t(blocks); ++k) light[k] = {std::move(scores[k]), std::move(squares[k])};
         } else {
             light[0] = std::move(mine);
         }

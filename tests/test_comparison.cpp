@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "compare/error_calibration.h"
 #include "compare/result_comparison.h"
 #include "compare/student_t.h"
 
@@ -111,6 +112,44 @@ TEST(ResultComparison, ABiasOrALocalChangeFails) {
     b.mean.pop_back();
     b.standardError.pop_back();
     EXPECT_FALSE(compareResults(b, 4, a, 4, kRgb).passes({}));
+}
+
+}  // namespace
+}  // namespace pl
+
+namespace pl {
+namespace {
+
+// The calibration of reported errors: exact errors give a mean z^2 of 1
+// and the normal's tail, errors half as large a mean z^2 of 4, and a
+// difference reported with no error counts beyond four.
+TEST(ErrorCalibration, TellsHonestErrorsFromSmallOnes) {
+    std::mt19937_64 rng(3);
+    std::normal_distribution<double> normal;
+    const size_t n = 200000;
+    PixelResults a, b;
+    for (size_t p = 0; p < n; ++p) {
+        const float sigma = 0.01f + 0.001f * float(p % 100);
+        a.mean.push_back({float(1 + sigma * normal(rng)), 1.0f, 1.0f});
+        b.mean.push_back({float(1 + sigma * normal(rng)), 1.0f, 1.0f});
+        a.standardError.push_back({sigma, 0.0f, 0.5f * sigma});
+        b.standardError.push_back({sigma, 0.0f, 0.5f * sigma});
+    }
+    ErrorCalibration honest = calibrateErrors(a, b);
+    EXPECT_EQ(honest.values, 3 * n);
+    EXPECT_NEAR(honest.meanZSq[0], 1.0, 0.02);
+    EXPECT_EQ(honest.zeroErrorButDiffer, 0u);  // channel 1: no error, no difference
+    EXPECT_EQ(honest.meanZSq[2], 0.0);         // channel 2: no difference
+    EXPECT_LT(honest.shareBeyondFour(), 1e-4);
+    for (size_t p = 0; p < n; ++p) {
+        a.standardError[p][0] *= 0.5f;
+        b.standardError[p][0] *= 0.5f;
+        b.mean[p][1] = 1.5f;
+    }
+    ErrorCalibration small = calibrateErrors(a, b);
+    EXPECT_NEAR(small.meanZSq[0], 4.0, 0.1);
+    EXPECT_EQ(small.zeroErrorButDiffer, n);
+    EXPECT_GT(small.shareBeyondFour(), 1.0 / 3.0);  // the whole channel 1, and channel 0's tail
 }
 
 }  // namespace
