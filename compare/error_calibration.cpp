@@ -13,10 +13,6 @@ ErrorCalibration calibrateErrors(const PixelResults& a, const PixelResults& b, c
             const double sa = a.standardError[p][c], sb = b.standardError[p][c];
             const double d = double(a.mean[p][c]) - double(b.mean[p][c]);
             ++e.values;
-            if (std::isinf(sa) || std::isinf(sb)) {
-                ++e.unknownError;
-                continue;
-            }
             const double combined = std::sqrt(sa * sa + sb * sb);
             if (!(combined > 0)) {
                 if (d != 0) {

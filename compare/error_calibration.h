@@ -20,7 +20,6 @@ struct ErrorCalibration {
     std::array<size_t, 3> perChannel{};  // values per channel
     size_t beyondFour = 0;              // values with |z| > 4
     size_t zeroErrorButDiffer = 0;      // combined error 0 where the renders differ
-    size_t unknownError = 0;            // an error reported as unknown (infinite) in either
     double shareBeyondFour() const { return values ? double(beyondFour) / double(values) : 0.0; }
     double shareZeroErrorButDiffer() const { return values ? double(zeroErrorButDiffer) / double(values) : 0.0; }
 };

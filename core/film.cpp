@@ -6,21 +6,6 @@
 
 namespace pl {
 
-namespace {
-
-// Sums over samples, for a pixel or a window of pixels.
-struct Moments {
-    double count = 0, units = 0, sum = 0, sumSq = 0;
-    // The variance of one sample about the moments' own mean, and whether
-    // the samples were all equal (or fewer than two units).
-    double perSampleVariance() const {
-        return units < 2 ? 0.0 : std::max(0.0, sumSq - sum * sum / count) / (units - 1);
-    }
-    bool flat() const { return units < 2 || sumSq - sum * sum / count <= 1e-12 * sumSq; }
-};
-
-}  // namespace
-
 void Film::poolErrors(const Sensor* sensor) {
     struct KeyMoment {
         double residualSum = 0, residualSqSum = 0;
@@ -60,12 +45,6 @@ void Film::poolErrors(const Sensor* sensor) {
         imageIndex[p] = sensor->pixelImageIndex(p);
         if (imageIndex[p] >= 0) pixelAt[size_t(imageIndex[p])] = int32_t(p);
     }
-    // A pixel's samples: their residuals where they have a key (every
-    // sample then has one), their values otherwise.
-    auto momentsOf = [](const Accumulator& a) {
-        if (a.poolKey >= 0) return Moments{double(a.pooledSamples), double(a.pooledSamples), a.residualSum, a.residualSqSum};
-        return Moments{double(a.count), double(a.units), a.sum, a.sumSq};
-    };
     for (size_t p = 0; p < acc_.size(); ++p)
         for (int c = 0; c < kChannels; ++c) {
             Accumulator& a = acc_[p][size_t(c)];

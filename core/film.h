@@ -175,17 +175,27 @@ private:
         if (a.count == 0 || a.hasWithinVariance) return 0;
         return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
     }
+    // Sums over samples, for a pixel or a window of pixels.
+    struct Moments {
+        double count = 0, units = 0, sum = 0, sumSq = 0;
+        // The variance of one sample about the moments' own mean, and
+        // whether the samples were all equal (or fewer than two units).
+        double perSampleVariance() const {
+            return units < 2 ? 0.0 : std::max(0.0, sumSq - sum * sum / count) / (units - 1);
+        }
+        bool flat() const { return units < 2 || sumSq - sum * sum / count <= 1e-12 * sumSq; }
+    };
+    // A pixel's pooled samples' residuals (every sample has one where it
+    // has a key), and its samples: their residuals where they have a key,
+    // their values otherwise.
+    static Moments residualMoments(const Accumulator& a);
+    static Moments momentsOf(const Accumulator& a);
     // Whether a pixel's pooled samples' residuals were all equal (or fewer than two).
-    static bool residualFlat(const Accumulator& a) {
-        const double n = a.pooledSamples;
-        return n < 2 || a.residualSqSum - a.residualSum * a.residualSum / n <= 1e-12 * a.residualSqSum;
-    }
+    static bool residualFlat(const Accumulator& a) { return residualMoments(a).flat(); }
     // The standard error of the mean that the spread of the residuals gives.
     static double residualSpread(const Accumulator& a) {
-        const double n = a.pooledSamples;
-        if (n < 2) return 0.0;
-        const double perSample = std::max(0.0, a.residualSqSum - a.residualSum * a.residualSum / n) / (n - 1);
-        return std::sqrt(perSample * n) / a.count;
+        const Moments m = residualMoments(a);
+        return std::sqrt(m.perSampleVariance() * m.count) / a.count;
     }
     struct Accumulator {
         double sum = 0, sumSq = 0;
@@ -204,5 +214,12 @@ private:
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;
 };
+
+inline Film::Moments Film::residualMoments(const Accumulator& a) {
+    return {double(a.pooledSamples), double(a.pooledSamples), a.residualSum, a.residualSqSum};
+}
+inline Film::Moments Film::momentsOf(const Accumulator& a) {
+    return a.poolKey >= 0 ? residualMoments(a) : Moments{double(a.count), double(a.units), a.sum, a.sumSq};
+}
 
 }  // namespace pl

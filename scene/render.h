@@ -94,8 +94,9 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                    RenderResult& result);
 
 // A share across MPI ranks: rank 0's film receives every rank's pixels
-// (and pools the residuals over them all, with the sensor's neighbourhoods); the returned statistics are
-// summed over the ranks on rank 0 (this rank's elsewhere). Collective.
+// (and pools the errors over them all, with the sensor's neighbourhoods);
+// the returned statistics are summed over the ranks on rank 0 (this
+// rank's elsewhere). Collective.
 // Otherwise: the result's statistics.
 PathStats gatherShares(RenderResult& result, const PixelShare& share, const Sensor& sensor);
 
