@@ -53,31 +53,27 @@ std::vector<int32_t> shellOwners(const std::vector<Label>& labels, Label voidLab
     return owner;
 }
 
-// Halftones the shell: requested colour of each voxel's owner, vector
+// Halftones the shell: the mixture each voxel's owner asks for, vector
 // error diffusion slice by slice; returns the changes against `labels`.
 std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, const GridFrame& frame,
-                                             const std::vector<int32_t>& owner, const std::vector<RGB>& requested) {
+                                             const std::vector<int32_t>& owner,
+                                             const std::vector<MaterialFractions>& mixtures) {
     const Vec3i& r = frame.resolution;
-    ErrorDiffusionHalftoner halftoner(r.x, r.y);
-    std::vector<MaterialFractions> targets(size_t(r.x) * r.y);
-    std::vector<uint8_t> active(targets.size()), chosen;
     std::vector<LabelGrid::Change> changes;
-    for (int z = 0; z < r.z; ++z) {
-        const size_t slice = size_t(z) * r.x * r.y;
-        for (size_t i = 0; i < targets.size(); ++i) {
-            int32_t o = owner[slice + i];
-            active[i] = o >= 0;
-            if (o >= 0) targets[i] = fractionsForColor(requested[size_t(o)]);
-        }
-        halftoner.halftoneSlice(z, targets, active, chosen);
-        for (size_t i = 0; i < targets.size(); ++i) {
-            if (!active[i]) continue;
-            Label l = kPrintMaterialLabel[chosen[i]];
-            if (l != labels[slice + i])
-                changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int(i / r.x),
-                                    frame.indexMin.z + z}, l});
-        }
-    }
+    halftoneFrame(
+        r,
+        [&](size_t i, MaterialFractions& f) {
+            if (owner[i] < 0) return false;
+            f = mixtures[size_t(owner[i])];
+            return true;
+        },
+        [&](size_t i, int material) {
+            const Label l = kPrintMaterialLabel[material];
+            if (l != labels[i])
+                changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
+                                    frame.indexMin.z + int(i / (size_t(r.x) * r.y))},
+                                   l});
+        });
     return changes;
 }
 
@@ -246,7 +242,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         for (size_t s = 0; s < requested.size(); ++s)
             for (int c = 0; c < 3; ++c)
                 requested[s][c] = std::clamp(requested[s][c] + settings.step * error[s][c], 0.0f, 1.0f);
-        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, requested);
+        std::vector<MaterialFractions> mixtures(requested.size());
+        for (size_t s = 0; s < requested.size(); ++s) mixtures[s] = fractionsForColor(requested[s]);
+        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixtures);
         for (const auto& c : changes) labels[at(c.voxel - frame.indexMin)] = c.label;
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();

@@ -18,6 +18,7 @@ int predictCommand(const std::vector<std::string>& args);
 int optimizeCommand(const std::vector<std::string>& args);
 int reportCommand(const std::vector<std::string>& args);
 int learnedDataCommand(const std::vector<std::string>& args);
+int characteriseCommand(const std::vector<std::string>& args);
 
 struct Command {
     const char* name;

@@ -238,4 +238,15 @@ bool Geometry::surfaceCrossesBox(const Point3f& lo, const Point3f& hi) const {
     return state.overlaps;
 }
 
+TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi) {
+    TriangleMesh m;
+    for (int i = 0; i < 8; ++i)
+        m.positions_mm.push_back({(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z});
+    // Faces as quads (a,b,c,d) counter-clockwise from outside.
+    const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                  {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& q : quads) m.indices.insert(m.indices.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
+    return m;
+}
+
 }  // namespace pl

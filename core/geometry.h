@@ -27,6 +27,9 @@ struct TriangleMesh {
     }
 };
 
+// Axis-aligned box with outward counter-clockwise winding.
+TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi);
+
 struct Bounds3f {
     Point3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     void expand(const Point3f& p) { lo = vmin(lo, p); hi = vmax(hi, p); }

@@ -72,4 +72,19 @@ void ErrorDiffusionHalftoner::halftoneSlice(int z, const std::vector<MaterialFra
     std::fill(nextError_.begin(), nextError_.end(), MaterialFractions{});
 }
 
+void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
+                   const std::function<void(size_t, int)>& chosen) {
+    const size_t sliceSize = size_t(resolution.x) * size_t(resolution.y);
+    ErrorDiffusionHalftoner halftoner(resolution.x, resolution.y);
+    std::vector<MaterialFractions> targets(sliceSize);
+    std::vector<uint8_t> active(sliceSize), material;
+    for (int z = 0; z < resolution.z; ++z) {
+        const size_t slice = size_t(z) * sliceSize;
+        for (size_t i = 0; i < sliceSize; ++i) active[i] = wanted(slice + i, targets[i]);
+        halftoner.halftoneSlice(z, targets, active, material);
+        for (size_t i = 0; i < sliceSize; ++i)
+            if (active[i]) chosen(slice + i, material[i]);
+    }
+}
+
 }  // namespace pl

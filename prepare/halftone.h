@@ -16,9 +16,11 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "core/rgb.h"
+#include "core/vecmath.h"
 #include "media/materials.h"
 
 namespace pl {
@@ -45,5 +47,12 @@ private:
     int resX_, resY_;
     std::vector<MaterialFractions> error_, nextError_;
 };
+
+// Halftones a frame's voxels (index x fastest, then y, then z) slice by
+// slice: wanted(i, f) says whether voxel i takes part and sets the
+// fractions it asks for; chosen(i, m) receives the material index of each
+// voxel that does.
+void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
+                   const std::function<void(size_t, int)>& chosen);
 
 }  // namespace pl

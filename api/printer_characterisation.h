@@ -1,0 +1,54 @@
+// The printer characterised by printlight itself: each mixture of the
+// mixing simplex's grid halftoned into the outer shell of a cube over a
+// white core, as prepare prints a colour, and rendered converged; the
+// colour is the mean reflectance over the centres of the cube's six faces,
+// far from its edges (prepare/printer_gamut.h interpolates between the
+// mixtures). Made once per material table and kept in a file
+// (io/printer_gamut_io.h) whose key is the table's contents and these
+// settings.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "core/vecmath.h"
+#include "media/materials.h"
+#include "prepare/printer_gamut.h"
+
+namespace pl {
+
+struct CharacterisationSettings {
+    int levels = 4;                                 // grid step 1/levels on the mixing simplex
+    Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};      // the printer's voxel
+    float shellDepth_mm = 1.0f;                     // as prepare and optimize colour the object
+    float cube_mm = 6.0f;
+    float measuredSquare_mm = 2.0f;                 // the centre of each face that is measured
+    std::string integrator = "volpath";
+    uint32_t spp = 8;
+    uint64_t seed = 1;
+    float ior = 1.5f;
+};
+
+// What the characterisation's colours depend on: the materials and the
+// settings (and a format version), as 16 hexadecimal digits.
+std::string characterisationKey(const MaterialTable& materials, const CharacterisationSettings& settings);
+
+// Renders every grid mixture; progress(done, total) after each.
+PrinterGamut characterisePrinter(const MaterialTable& materials, const CharacterisationSettings& settings,
+                                 const std::function<void(size_t, size_t)>& progress = {});
+
+// Writes the characterisation with its key (io/printer_gamut_io.h).
+void writeCharacterisation(const PrinterGamut& gamut, const MaterialTable& materials,
+                           const CharacterisationSettings& settings, const std::filesystem::path& file);
+
+// The characterisation of a material table: the file beside it
+// (MATERIALS.gamut.json) or in the user's cache ($XDG_CACHE_HOME or
+// ~/.cache, printlight/KEY.gamut.json) if its key matches; otherwise made
+// (with a progress bar on a terminal) and written to the cache. `said`
+// receives one line saying which.
+PrinterGamut printerGamutFor(const std::filesystem::path& materialsFile, const CharacterisationSettings& settings,
+                             const std::function<void(const std::string&)>& said = {});
+
+}  // namespace pl

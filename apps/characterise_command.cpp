@@ -1,0 +1,58 @@
+// printlight characterise MATERIALS.json: the printer's colours, rendered
+// (api/printer_characterisation.h), written beside the table as
+// MATERIALS.gamut.json (or -o FILE), where optimize finds them.
+
+#include <chrono>
+#include <cstdio>
+
+#include "api/printer_characterisation.h"
+#include "apps/arguments.h"
+#include "apps/command_options.h"
+#include "io/materials_io.h"
+#include "io/output_file.h"
+#include "runtime/progress.h"
+
+namespace pl {
+
+int characteriseCommand(const std::vector<std::string>& argv) {
+    CharacterisationSettings s;
+    Arguments args("characterise", argv,
+                   {{"--levels", "N", "grid step 1/N on the mixing simplex (default 4)"},
+                    {"--spp", "N", "samples per measured voxel and mixture (default 8)"},
+                    {"--cube-mm", "D", "the characterisation cube's side (default 6)"},
+                    kThreadsOption,
+                    {"-o,--output", "FILE", "where to write it (default MATERIALS.gamut.json beside the table)"}});
+    if (args.positional().size() != 1) throw UsageError("characterise needs exactly one MATERIALS.json");
+    const std::filesystem::path materialsFile = args.positional()[0];
+    s.levels = int(args.integer("--levels", 1, 16).value_or(s.levels));
+    s.spp = uint32_t(args.integer("--spp", 1, 1 << 16).value_or(s.spp));
+    if (auto d = args.number("--cube-mm")) {
+        if (!(*d >= 2 * s.shellDepth_mm + 1 && *d <= 30)) throw UsageError("--cube-mm must be in [3, 30]");
+        s.cube_mm = float(*d);
+    }
+    ThreadLimit threads(args);
+    const std::filesystem::path out = args.value("-o").value_or(
+        (materialsFile.parent_path() / (materialsFile.stem().string() + ".gamut.json")).string());
+    refuseToOverwriteInputs(out, {materialsFile});
+    const MaterialTable materials = loadMaterials(materialsFile);
+    const auto t0 = std::chrono::steady_clock::now();
+    const size_t total = PrinterGamut::gridMixtures(s.levels).size();
+    ProgressBar bar(total, "characterising the printer", ProgressBar::stderrIsTerminal());
+    size_t shown = 0;
+    const PrinterGamut gamut = characterisePrinter(materials, s, [&](size_t done, size_t) {
+        bar.advance(done - shown);
+        shown = done;
+    });
+    bar.finish();
+    writeCharacterisation(gamut, materials, s, out);
+    double worst = 0;
+    for (const RGB& e : gamut.gridStandardError())
+        for (float x : e) worst = std::max(worst, double(x));
+    const Lab white = gamut.colour({0, 0, 0, 0, 1}), black = gamut.colour({0, 0, 0, 1, 0});
+    std::printf("characterised %zu mixtures in %.1f s (largest standard error %.4f); white L* %.1f, black L* %.1f\n"
+                "wrote %s\n",
+                total, secondsSince(t0), worst, white.L, black.L, out.string().c_str());
+    return 0;
+}
+
+}  // namespace pl
