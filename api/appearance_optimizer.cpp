@@ -4,10 +4,15 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <numeric>
+#include <tuple>
+
+#include <tbb/parallel_for.h>
 
 #include "compare/color_difference.h"
 #include "compare/surface_colour_error.h"
 #include "prepare/halftone.h"
+#include "scene/registry.h"
 
 namespace pl {
 
@@ -77,18 +82,6 @@ std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, c
     return changes;
 }
 
-// Every shell voxel set to one label (calibration of the gamut).
-std::vector<LabelGrid::Change> fillShell(const std::vector<Label>& labels, const GridFrame& frame,
-                                         const std::vector<int32_t>& owner, Label label) {
-    const Vec3i& r = frame.resolution;
-    std::vector<LabelGrid::Change> changes;
-    for (size_t i = 0; i < owner.size(); ++i)
-        if (owner[i] >= 0 && labels[i] != label)
-            changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
-                                frame.indexMin.z + int(i / (size_t(r.x) * r.y))}, label});
-    return changes;
-}
-
 // Radiance (or its standard error) as reflectance: over the surroundings' radiance.
 std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& environment) {
     std::vector<RGB> out(radiance.size());
@@ -97,57 +90,47 @@ std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& enviro
     return out;
 }
 
-RGB meanOf(const std::vector<RGB>& v) {
-    double s[3] = {0, 0, 0};
-    for (const RGB& x : v)
-        for (int c = 0; c < 3; ++c) s[c] += x[c];
-    RGB m;
-    for (int c = 0; c < 3; ++c) m[c] = float(s[c] / double(std::max<size_t>(v.size(), 1)));
-    return m;
+std::vector<Lab> labsOf(const std::vector<RGB>& colours) {
+    std::vector<Lab> out(colours.size());
+    tbb::parallel_for(size_t(0), colours.size(), [&](size_t i) { out[i] = labFromLinearSrgb(colours[i]); });
+    return out;
 }
 
-// Mean of `values` over the surface voxels within radius voxels of each
-// (Chebyshev), i.e. the colour seen at the scale of a few voxels.
-std::vector<RGB> smoothOverSurface(const std::vector<RGB>& values, const std::vector<Vec3i>& voxels,
-                                   const std::vector<int32_t>& surfaceAt, const DenseIndex& at,
-                                   const Vec3i& indexMin, int radius) {
-    if (radius <= 0) return values;
-    std::vector<RGB> out(values.size());
-    for (size_t s = 0; s < values.size(); ++s) {
-        double sum[3] = {0, 0, 0};
-        int n = 0;
-        Vec3i v = voxels[s] - indexMin;
-        for (int dz = -radius; dz <= radius; ++dz)
-            for (int dy = -radius; dy <= radius; ++dy)
-                for (int dx = -radius; dx <= radius; ++dx) {
-                    Vec3i q{v.x + dx, v.y + dy, v.z + dz};
-                    if (!at.contains(q) || surfaceAt[at(q)] < 0) continue;
-                    const RGB& x = values[size_t(surfaceAt[at(q)])];
-                    for (int c = 0; c < 3; ++c) sum[c] += x[c];
-                    ++n;
-                }
-        for (int c = 0; c < 3; ++c) out[s][c] = float(sum[c] / n);
+std::array<double, 3> difference(const Lab& x, const Lab& y) { return {x.L - y.L, x.a - y.a, x.b - y.b}; }
+
+// The gamut's match for every colour, each distinct colour searched once
+// (a uniform target is one search).
+std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std::vector<RGB>& colours) {
+    std::vector<uint32_t> order(colours.size());
+    std::iota(order.begin(), order.end(), 0u);
+    auto key = [&](uint32_t i) { return std::make_tuple(colours[i][0], colours[i][1], colours[i][2]); };
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
+    std::vector<uint32_t> distinct;
+    for (size_t k = 0; k < order.size(); ++k)
+        if (k == 0 || key(order[k]) != key(order[k - 1])) distinct.push_back(order[k]);
+    std::vector<PrinterGamut::Match> found(distinct.size());
+    tbb::parallel_for(size_t(0), distinct.size(), [&](size_t d) {
+        found[d] = gamut.closest(labFromLinearSrgb(colours[distinct[d]]));
+    });
+    std::vector<PrinterGamut::Match> out(colours.size());
+    for (size_t k = 0, d = 0; k < order.size(); ++k) {
+        if (k > 0 && key(order[k]) != key(order[k - 1])) ++d;
+        out[order[k]] = found[d];
     }
     return out;
 }
 
-// Mean and 95th percentile of CIEDE2000 between two colour lists.
-void scoreInto(const std::vector<RGB>& predicted, const std::vector<RGB>& target, double& mean, double& p95) {
-    const DeltaEStats stats = deltaEStats(predicted, target);
-    mean = stats.mean;
-    p95 = stats.p95;
-}
-
 }  // namespace
 
-OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& targets,
+OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamut, const std::vector<RGB>& targets,
                                   const OptimizeSettings& settings,
                                   const std::function<void(const OptimizeIteration&)>& onIteration) {
     using Clock = std::chrono::steady_clock;
+    const auto loopStart = Clock::now();
     const GridFrame frame = predictor.labels().frame();
-    const Label voidLabel = predictor.labels().voidLabel();
     const RGB environment = predictor.environment();
-    std::vector<Label> labels = predictor.labels().toDense();
+    const std::vector<Label> given = predictor.labels().toDense();
+    std::vector<Label> labels = given;
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
 
@@ -157,95 +140,129 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         RenderSettings saved;
         ~RestoreSettings() { predictor.settings() = saved; }
     } restore{predictor, predictor.settings()};
-    // The Monte Carlo integrator of the settings, and the fast one if any
-    // (with iterations to use it on).
+    // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =
-        !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo && settings.iterations > 0;
+        !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo && settings.maxIterations > 0;
     if (fastFirst) predictor.settings().integrator = settings.fastPredictor;
     auto t0 = Clock::now();
     SurfacePrediction p = predictor.predict();
-    if (targets.size() != p.voxels.size())
-        throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
-    std::vector<int32_t> owner = shellOwners(labels, voidLabel, frame, p.voxels, settings.shellDepth_mm);
-    // The targets mapped into the gamut that integrator predicts.
-    auto mapIntoGamut = [&](const std::string& integrator, RGB& black, RGB& white) {
-        std::vector<RGB> mapped = targets;
-        if (!settings.gamutMap) return mapped;
-        const std::string current = predictor.settings().integrator;
-        predictor.settings().integrator = integrator;
-        // Calibration: the shell all black, then all white; then the labels as given again.
-        // One sample per voxel: the mean over all surface voxels is precise.
-        auto meanWith = [&](Label l) {
-            auto changes = fillShell(labels, frame, owner, l);
-            predictor.changeLabels(changes);
-            const uint32_t spp = predictor.settings().spp;
-            predictor.settings().spp = 1;
-            RGB m = meanOf(reflectance(predictor.predict().radiance, environment));
-            predictor.settings().spp = spp;
-            for (auto& c : changes) c.label = labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)];
-            predictor.changeLabels(changes);
-            return m;
-        };
-        black = meanWith(kBlackLabel);
-        white = meanWith(kWhiteLabel);
-        predictor.settings().integrator = current;
-        for (RGB& t : mapped)
-            for (int c = 0; c < 3; ++c) t[c] = black[c] + std::clamp(t[c], 0.0f, 1.0f) * (white[c] - black[c]);
-        return mapped;
-    };
-    const std::vector<RGB> mapped = mapIntoGamut(monteCarlo, result.gamutBlack, result.gamutWhite);
+    const size_t n = p.voxels.size();
+    if (targets.size() != n) throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
+    const std::vector<int32_t> owner =
+        shellOwners(labels, predictor.labels().voidLabel(), frame, p.voxels, settings.shellDepth_mm);
     const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
-    std::optional<SurfaceGaussian> updateFilter;
-    if (settings.updateFootprint_mm > 0) updateFilter.emplace(points_mm, settings.updateFootprint_mm);
-    // Surface voxels by position, for smoothing.
-    DenseIndex at{frame.resolution};
-    std::vector<int32_t> surfaceAt(labels.size(), -1);
-    for (size_t s = 0; s < p.voxels.size(); ++s) surfaceAt[at(p.voxels[s] - frame.indexMin)] = int32_t(s);
-    auto smooth = [&](const std::vector<RGB>& v, int radius) {
-        return smoothOverSurface(v, p.voxels, surfaceAt, at, frame.indexMin, radius);
+    const SurfaceGaussian eye(points_mm, kEyeFootprint_mm);
+    std::optional<SurfaceGaussian> ownUpdateFilter;
+    if (settings.updateFootprint_mm > 0 && settings.updateFootprint_mm != kEyeFootprint_mm)
+        ownUpdateFilter.emplace(points_mm, settings.updateFootprint_mm);
+    auto updateFiltered = [&](const std::vector<RGB>& v) {
+        if (settings.updateFootprint_mm <= 0) return v;
+        return ownUpdateFilter ? ownUpdateFilter->apply(v) : eye.apply(v);
     };
-    const std::vector<RGB> scoredTarget = smooth(mapped, settings.scoreRadius);
 
-    std::vector<RGB> requested = targets;
-    double previousScore = 0;
+    // The targets mapped into the gamut, and the mixtures that show them.
+    std::vector<RGB> given_targets = targets;
+    for (RGB& t : given_targets)
+        for (float& x : t) x = std::clamp(x, 0.0f, 1.0f);
+    const std::vector<PrinterGamut::Match> mapping = matchesOf(gamut, given_targets);
+    std::vector<RGB> mapped(n);
+    std::vector<MaterialFractions> mixture(n);
+    std::vector<Lab> request(n);
+    for (size_t i = 0; i < n; ++i) {
+        mapped[i] = settings.gamutMap ? mapping[i].reflectance : given_targets[i];
+        mixture[i] = mapping[i].mixture;
+        request[i] = mapping[i].colour;
+    }
+    result.mappingLoss = surfaceColourError(eye, mapped, given_targets);
+    result.targetSeen = eye.apply(given_targets);
+    result.mappedSeen = eye.apply(mapped);
+    const std::vector<Lab> goal = labsOf(updateFiltered(mapped));
+
+    // The secant per voxel: the request printed now and the one before, and
+    // the prediction of the one before; the gain it measured.
+    std::vector<Lab> previousRequest(n), previousSeen(n);
+    std::vector<float> gain(n, 1.0f);
+    std::vector<MaterialFractions> bestMixture = mixture;
+    double bestScore = 0;
+    float stepShare = 1.0f;
     for (int iteration = 0;; ++iteration) {
-        std::vector<RGB> predicted = reflectance(p.radiance, environment);
+        const std::vector<RGB> predicted = reflectance(p.radiance, environment);
+        // Over the footprint: the prediction, and the same moved by one draw
+        // of its noise (what the noise adds to the score).
+        const bool noisy = !integratorKindOf(predictor.settings()).deterministic;
+        const std::vector<RGB> moved =
+            noisy ? movedByNoise(predicted, reflectance(p.standardError, environment), 1) : predicted;
+        std::vector<std::vector<RGB>> filtered = eye.apply(std::vector<const std::vector<RGB>*>{&predicted, &moved});
+        const std::vector<RGB> seen = std::move(filtered[0]);
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
-        scoreInto(smooth(predicted, settings.scoreRadius), scoredTarget, it.meanDeltaE, it.p95DeltaE);
-        scoreInto(predicted, mapped, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel);
-        // Past the fast predictor's use: its score has stopped falling (or
-        // the last prediction is next: it is Monte Carlo's).
-        const bool switchNow = fastFirst && predictor.settings().integrator == settings.fastPredictor &&
-                               ((iteration > 0 && previousScore - it.meanDeltaE < settings.switchBelowDeltaE) ||
-                                iteration + 1 == settings.iterations);
-        previousScore = it.meanDeltaE;
-        if (iteration == settings.iterations) {
-            result.finalPredicted = smooth(predicted, settings.scoreRadius);
-            result.finalTarget = scoredTarget;
-            result.finalDeltaE.resize(predicted.size());
-            for (size_t i = 0; i < predicted.size(); ++i)
-                result.finalDeltaE[i] = float(ciede2000(labFromLinearSrgb(result.finalPredicted[i]),
-                                                        labFromLinearSrgb(result.finalTarget[i])));
-            it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        const DeltaEStats overFootprint = deltaEStats(seen, result.mappedSeen), raw = deltaEStats(predicted, mapped);
+        it.meanDeltaE = overFootprint.mean;
+        it.p95DeltaE = overFootprint.p95;
+        it.meanDeltaEPerVoxel = raw.mean;
+        it.p95DeltaEPerVoxel = raw.p95;
+        if (noisy) it.noiseDeltaE = deltaEStats(filtered[1], seen).mean;
+        // A new best only if it beats the last by a margin: the score's own
+        // noise is far smaller than noiseDeltaE (a mean over every voxel),
+        // but shifts with the labels.
+        if (iteration == 0 || it.meanDeltaE < bestScore - std::max(0.02 * bestScore, 0.02)) {
+            bestScore = it.meanDeltaE;
+            result.bestIteration = iteration;
+            bestMixture = mixture;
+            result.predictedSeen = seen;
+        } else if (iteration > 1) {
+            // Past the first miss each move is halved: near the end the moves
+            // average the predictions' noise instead of following it.
+            stepShare = std::max(0.125f, 0.5f * stepShare);
+        }
+        // Past the fast predictor's use: its score has stopped falling.
+        const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
+        const bool switchNow = onFast && ((iteration > 0 && result.iterations.back().meanDeltaE - it.meanDeltaE <
+                                                                settings.switchBelowDeltaE) ||
+                                          iteration + 1 == settings.maxIterations);
+        const double elapsed = std::chrono::duration<double>(Clock::now() - loopStart).count();
+        const double lastSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        std::string stop;
+        if (iteration >= settings.maxIterations) stop = "its iterations";
+        else if (settings.timeBudget_s > 0 && elapsed + lastSeconds > settings.timeBudget_s) stop = "its time budget";
+        else if (settings.patience > 0 && !onFast && iteration > 0 && iteration - result.bestIteration >= settings.patience)
+            stop = "its score stopped falling";
+        if (!stop.empty()) {
+            result.stoppedBecause = stop;
+            it.seconds = lastSeconds;
             result.iterations.push_back(it);
             if (onIteration) onIteration(it);
             break;
         }
-        // Error, averaged over the surface neighbourhood; move the requests.
-        std::vector<RGB> error(predicted.size());
-        for (size_t i = 0; i < error.size(); ++i)
-            for (int c = 0; c < 3; ++c) error[i][c] = mapped[i][c] - predicted[i][c];
-        error = updateFilter ? updateFilter->apply(error) : smooth(error, settings.smoothRadius);
-        for (size_t s = 0; s < requested.size(); ++s)
-            for (int c = 0; c < 3; ++c)
-                requested[s][c] = std::clamp(requested[s][c] + settings.step * error[s][c], 0.0f, 1.0f);
-        std::vector<MaterialFractions> mixtures(requested.size());
-        for (size_t s = 0; s < requested.size(); ++s) mixtures[s] = fractionsForColor(requested[s]);
-        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixtures);
-        for (const auto& c : changes) labels[at(c.voxel - frame.indexMin)] = c.label;
+        // Move the requests: the error the eye sees, over each voxel's gain;
+        // then the nearest printable colour and its mixture.
+        const std::vector<Lab> now =
+            labsOf(settings.updateFootprint_mm == kEyeFootprint_mm ? seen : updateFiltered(predicted));
+        tbb::parallel_for(size_t(0), n, [&](size_t i) {
+            if (iteration == 0) return;  // the mapped targets' own mixtures first
+            if (iteration >= 2) {
+                const auto dR = difference(request[i], previousRequest[i]), dP = difference(now[i], previousSeen[i]);
+                const double moved = dR[0] * dR[0] + dR[1] * dR[1] + dR[2] * dR[2];
+                // Only moves well above the prediction's noise measure a gain.
+                if (moved > 4.0) {
+                    const double g = (dP[0] * dR[0] + dP[1] * dR[1] + dP[2] * dR[2]) / moved;
+                    gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * g, 0.4, 2.5));
+                }
+            }
+            previousRequest[i] = request[i];
+            previousSeen[i] = now[i];
+            const double a = settings.step * stepShare / gain[i];
+            const auto err = difference(goal[i], now[i]);
+            const Lab wanted{float(request[i].L + a * err[0]), float(request[i].a + a * err[1]),
+                             float(request[i].b + a * err[2])};
+            const PrinterGamut::Match m = gamut.closest(wanted, mixture[i]);
+            mixture[i] = m.mixture;
+            request[i] = m.colour;
+        });
+        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixture);
+        for (const auto& c : changes) labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)] = c.label;
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -257,23 +274,38 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& 
         if (switchNow) predictor.settings().integrator = monteCarlo;
         p = predictor.predict();
     }
+    result.deltaESeen.resize(n);
+    for (size_t i = 0; i < n; ++i)
+        result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
+                                               labFromLinearSrgb(result.mappedSeen[i])));
+    // End on the best labels: the labels as given, or the best mixtures' halftone.
+    if (result.bestIteration != result.iterations.back().iteration) {
+        std::vector<LabelGrid::Change> changes;
+        if (result.bestIteration == 0) {
+            const Vec3i& r = frame.resolution;
+            for (size_t i = 0; i < labels.size(); ++i)
+                if (labels[i] != given[i])
+                    changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
+                                        frame.indexMin.z + int(i / (size_t(r.x) * r.y))},
+                                       given[i]});
+        } else {
+            changes = halftoneShell(labels, frame, owner, bestMixture);
+        }
+        predictor.changeLabels(changes);
+    }
     if (settings.judgeSpp > 0) {
-        // The judge: what gets printed, rendered apart from the loop.
+        // The judge: what gets printed, rendered apart from the loop, against
+        // the same mapped targets.
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
         predictor.settings().integrator = judge;
         predictor.settings().spp = settings.judgeSpp;
         predictor.settings().seed = settings.judgeSeed;
         const auto j0 = Clock::now();
         const SurfacePrediction judged = predictor.predict();
-        // Against the targets mapped by the judge's own calibration: the
-        // same whatever predicted.
-        RGB black, white;
-        const std::vector<RGB> judgeTargets = mapIntoGamut(judge, black, white);
         const std::vector<RGB> judgedColours = reflectance(judged.radiance, environment);
-        const SurfaceColourError e = surfaceColourError(points_mm, judgedColours, judgeTargets);
-        // What the judge's own noise adds to its score.
+        const SurfaceColourError e = surfaceColourError(eye, judgedColours, mapped);
         const SurfaceColourError noise =
-            noiseColourError(points_mm, judgedColours, reflectance(judged.standardError, environment));
+            noiseColourError(eye, judgedColours, reflectance(judged.standardError, environment));
         result.judgement = OptimizeJudgement{judge, settings.judgeSpp, settings.judgeSeed, e.mean,
                                              e.p95, e.meanFiltered, e.p95Filtered, noise.mean, noise.meanFiltered,
                                              judged.voxelsShareSamples,

@@ -1,22 +1,29 @@
-// A simple scattering-aware compensation loop on the surface shell, in the
-// spirit of Elek et al. 2017: predict the surface colour, compare it with
-// the target, push the shell's requested colours against the error,
-// re-halftone, repeat.
-//  - Targets are per surface voxel, linear RGB reflectance (white = 1). By
-//    default they are first mapped into what the printer can show: between
-//    the mean predicted reflectance of a shell all black and all white
-//    (two calibration predictions), per channel.
+// A scattering-aware compensation loop on the surface shell, in the spirit
+// of Elek et al. 2017, steered by the printer's characterisation
+// (prepare/printer_gamut.h): predict the surface colour, compare it with
+// the target as the eye sees it, move each surface voxel's requested colour
+// in CIELAB, print the mixture that shows it, repeat.
+//  - Targets are per surface voxel, linear RGB reflectance (white = 1).
+//    They are first mapped into the printer's gamut: each to the colour of
+//    the mixture nearest it in CIELAB (minimum Delta E clipping; the
+//    identity inside the gamut). Loop and judge aim at the same mapped
+//    targets; the mapping loss (as given -> mapped) is reported apart.
 //  - The shell is every object voxel within shellDepth_mm of a surface
-//    voxel; each takes the requested colour of its nearest surface voxel.
+//    voxel; each takes the mixture of its nearest surface voxel, halftoned
+//    by prepare's 3D vector error diffusion; only changed voxels go to the
+//    predictor.
+//  - First the mapped targets' own mixtures are printed. After each
+//    prediction, the error (mapped target - prediction, both averaged over
+//    the eye's footprint, in CIELAB) moves each request by `step` times the
+//    error over the request's measured gain (a secant estimate per voxel:
+//    how far the prediction moved for the last move of the request), and
+//    the request goes back to the nearest printable colour (no clamping,
+//    no wind-up outside the gamut).
 //  - Scores: mean and 95th percentile of CIEDE2000 between prediction and
-//    target, both averaged over a small surface neighbourhood (scoreRadius),
-//    and per voxel.
-//  - Requested colours start at the targets; after each prediction they
-//    move by step x (target - prediction), the error averaged over the
-//    surface voxels within smoothRadius voxels (the prediction is noisy),
-//    clamped to [0, 1]. Then the shell is halftoned again (prepare's vector
-//    error diffusion over fractionsForColor) and only the voxels whose
-//    label changed go to the predictor.
+//    mapped target over the eye's footprint (compare/surface_colour_error.h),
+//    and per voxel. The loop stops after maxIterations, at its time budget,
+//    or when its score has not fallen below its best by more than its own
+//    noise for `patience` iterations; it ends on its best labels.
 #pragma once
 
 #include <functional>
@@ -26,50 +33,45 @@
 
 #include "api/predictor.h"
 #include "compare/surface_colour_error.h"
+#include "prepare/printer_gamut.h"
 
 namespace pl {
 
 struct OptimizeSettings {
-    int iterations = 8;
+    int maxIterations = 16;
+    double timeBudget_s = 0;  // > 0: no new iteration past this wall time (the loop's)
+    int patience = 2;         // iterations without a significant new best before it stops (0: never)
     float shellDepth_mm = 1.0f;
-    float step = 0.5f;
-    int smoothRadius = 1;
-    // > 0: the error is averaged instead with a Gaussian of this sigma on
-    // the surface, by default the eye's footprint: detail finer than the
-    // eye sees is left alone, and so is most of the noise (on the greek
-    // cube the judged error over the footprint fell from 12.8 to 4.8;
-    // docs/api.md).
+    float step = 0.8f;  // share of the error one iteration corrects, at the measured gain
+    // The error is averaged with a Gaussian of this sigma on the surface, by
+    // default the eye's footprint: detail finer than the eye sees is left
+    // alone, and so is most of the noise (0: per voxel).
     float updateFootprint_mm = kEyeFootprint_mm;
-    // Colours are compared after averaging prediction and target over the
-    // surface voxels within this many voxels (0: per voxel). Per voxel, the
-    // Monte Carlo noise of a few samples dominates CIEDE2000.
-    int scoreRadius = 1;
-    bool gamutMap = true;
+    bool gamutMap = true;  // false: aim at the targets as given (clipped by the inverse)
     // A fast predictor (an integrator's name, e.g. "diffusion") for the
     // first iterations: the loop predicts with it while its own score falls
-    // by at least switchBelowDeltaE per iteration (past that the predictor's
-    // bias is larger than what a step changes), then with the predictor's
-    // settings (Monte Carlo). The calibrations use the latter. Empty: none.
+    // by at least switchBelowDeltaE per iteration, then with the
+    // predictor's settings (Monte Carlo). Empty: none.
     std::string fastPredictor;
     double switchBelowDeltaE = 0.25;
     // The judge: the final labels rendered independently (this integrator,
     // empty: the predictor's settings'; spp and seed) and scored against
-    // the targets mapped by its own calibration, per voxel and over the
-    // eye's footprint (compare/surface_colour_error.h). 0 spp: none. The
-    // predictor must have loaded what the judge needs (Predictor's alsoNeeds).
+    // the mapped targets, per voxel and over the eye's footprint. 0 spp:
+    // none. The predictor must have loaded what the judge needs.
     std::string judgeIntegrator;
     uint32_t judgeSpp = 0;
     uint64_t judgeSeed = 99;
 };
 
 struct OptimizeIteration {
-    int iteration = 0;       // 0: the labels as given
-    double meanDeltaE = 0;   // CIEDE2000, prediction against (mapped) target, at scoreRadius
+    int iteration = 0;        // 0: the labels as given
+    double meanDeltaE = 0;    // CIEDE2000 over the eye's footprint, prediction against mapped target
     double p95DeltaE = 0;
+    double noiseDeltaE = 0;   // what the prediction's own noise adds to meanDeltaE
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
-    double seconds = 0;      // prediction plus update
+    double seconds = 0;       // prediction plus update
     size_t changedVoxels = 0;
-    std::string predictor;  // the integrator that made this iteration's prediction
+    std::string predictor;    // the integrator that made this iteration's prediction
 };
 
 struct OptimizeJudgement {
@@ -90,17 +92,23 @@ struct OptimizeJudgement {
 
 struct OptimizeResult {
     std::vector<OptimizeIteration> iterations;
-    RGB gamutBlack{0, 0, 0}, gamutWhite{1, 1, 1};  // reflectance of the calibration shells
-    // The last iteration per surface voxel, as it was scored (over
-    // scoreRadius): predicted and (mapped) target reflectance, CIEDE2000.
-    std::vector<RGB> finalPredicted, finalTarget;
-    std::vector<float> finalDeltaE;
+    int bestIteration = 0;  // whose labels the predictor ends with
+    std::string stoppedBecause;
+    // Target as given -> mapped into the gamut (CIEDE2000, per voxel and
+    // over the eye's footprint): what the printer cannot show.
+    SurfaceColourError mappingLoss;
+    // Per surface voxel over the eye's footprint: the target as given, as
+    // mapped, the best iteration's prediction, and CIEDE2000 between the
+    // last two.
+    std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
+    std::vector<float> deltaESeen;
     std::optional<OptimizeJudgement> judgement;  // with judgeSpp > 0
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends
-// holding the final labels, its settings as they were. onIteration is called after each prediction.
-OptimizeResult optimizeAppearance(Predictor& predictor, const std::vector<RGB>& targets,
+// holding the best labels, its settings as they were. onIteration is called
+// after each prediction.
+OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamut, const std::vector<RGB>& targets,
                                   const OptimizeSettings& settings,
                                   const std::function<void(const OptimizeIteration&)>& onIteration);
 

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "io/input_error.h"
 #include "io/materials_io.h"
 #include "io/printer_gamut_io.h"
 #include "runtime/progress.h"
@@ -197,6 +198,20 @@ PrinterGamut printerGamutFor(const std::filesystem::path& materialsFile, const C
     if (said) said("the printer's gamut: characterised " + std::to_string(total) + " mixtures of " +
                    materialsFile.string() + ", " + where);
     return gamut;
+}
+
+PrinterGamut readPrinterGamutFile(const std::filesystem::path& file, const std::filesystem::path& materialsFile,
+                                  const CharacterisationSettings& settings,
+                                  const std::function<void(const std::string&)>& said) {
+    if (!std::filesystem::exists(file)) throw InputError(file.string(), "no such file");
+    std::string found;
+    std::optional<PrinterGamut> g = readPrinterGamut(file, "", &found);
+    if (said) {
+        const bool matches = found == characterisationKey(loadMaterials(materialsFile), settings);
+        said("the printer's gamut: " + file.string() +
+             (matches ? "" : " (made for other materials or settings than this scene's)"));
+    }
+    return std::move(*g);
 }
 
 }  // namespace pl

@@ -20,7 +20,7 @@
 namespace pl {
 
 struct CharacterisationSettings {
-    int levels = 4;                                 // grid step 1/levels on the mixing simplex
+    int levels = 8;                                 // grid step 1/levels on the mixing simplex
     Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};      // the printer's voxel
     float shellDepth_mm = 1.0f;                     // as prepare and optimize colour the object
     float cube_mm = 6.0f;
@@ -50,5 +50,12 @@ void writeCharacterisation(const PrinterGamut& gamut, const MaterialTable& mater
 // receives one line saying which.
 PrinterGamut printerGamutFor(const std::filesystem::path& materialsFile, const CharacterisationSettings& settings,
                              const std::function<void(const std::string&)>& said = {});
+
+// A characterisation file the user names (throws InputError if it is
+// missing or malformed); `said` notes it if it was made for other
+// materials or settings than these.
+PrinterGamut readPrinterGamutFile(const std::filesystem::path& file, const std::filesystem::path& materialsFile,
+                                  const CharacterisationSettings& settings,
+                                  const std::function<void(const std::string&)>& said = {});
 
 }  // namespace pl

@@ -17,9 +17,11 @@ namespace pl {
 int characteriseCommand(const std::vector<std::string>& argv) {
     CharacterisationSettings s;
     Arguments args("characterise", argv,
-                   {{"--levels", "N", "grid step 1/N on the mixing simplex (default 4)"},
+                   {{"--levels", "N", "grid step 1/N on the mixing simplex (default 8)"},
                     {"--spp", "N", "samples per measured voxel and mixture (default 8)"},
                     {"--cube-mm", "D", "the characterisation cube's side (default 6)"},
+                    {"--voxel-mm", "X,Y,Z", "the printer's voxel (default 0.0423,0.0847,0.027, as prepare)"},
+                    {"--ior", "N", "the object's index of refraction (default 1.5, as the scenes)"},
                     kThreadsOption,
                     {"-o,--output", "FILE", "where to write it (default MATERIALS.gamut.json beside the table)"}});
     if (args.positional().size() != 1) throw UsageError("characterise needs exactly one MATERIALS.json");
@@ -29,6 +31,15 @@ int characteriseCommand(const std::vector<std::string>& argv) {
     if (auto d = args.number("--cube-mm")) {
         if (!(*d >= 2 * s.shellDepth_mm + 1 && *d <= 30)) throw UsageError("--cube-mm must be in [3, 30]");
         s.cube_mm = float(*d);
+    }
+    if (auto v = args.value("--voxel-mm")) {
+        s.voxel_mm = parseTriple("--voxel-mm", *v);
+        for (float x : {s.voxel_mm.x, s.voxel_mm.y, s.voxel_mm.z})
+            if (!(x >= 0.005f && x <= 1.0f)) throw UsageError("--voxel-mm components must be in [0.005, 1]");
+    }
+    if (auto n = args.number("--ior")) {
+        if (!(*n >= 1 && *n <= 3)) throw UsageError("--ior must be in [1, 3]");
+        s.ior = float(*n);
     }
     ThreadLimit threads(args);
     const std::filesystem::path out = args.value("-o").value_or(

@@ -1,11 +1,10 @@
 // printlight optimize: the appearance-optimisation loop as a working
-// example of the prediction API (api/appearance_optimizer.h).
-//   printlight optimize SCENE.json --target MODEL.gltf|R,G,B [--iterations N] [--spp N] [--seed S]
-//                       [--integrator volpath|printpt] [--channel-sampling separate|hero|spectral]
-//                       [--step X] [--shell-mm D] [--no-gamut-map] [--threads N] [-o PREFIX]
+// example of the prediction API (api/appearance_optimizer.h), steered by
+// the printer's characterisation (api/printer_characterisation.h).
 // Prints per iteration the mean and 95th-percentile CIEDE2000 between the
-// predicted and the target surface colour and the iteration time; writes
-// PREFIX.csv (the same numbers) and PREFIX_labels.vdb (the final labels).
+// predicted and the mapped target colour over the eye's footprint and the
+// iteration time; writes PREFIX.csv (the same numbers), PREFIX_labels.vdb
+// (the final labels) and PREFIX.html (the models and the history).
 
 #include <chrono>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include <sstream>
 
 #include "api/appearance_optimizer.h"
+#include "api/printer_characterisation.h"
 #include "compare/surface_colour_error.h"
 #include "scene/registry.h"
 #include "apps/arguments.h"
@@ -31,18 +31,21 @@ namespace pl {
 
 namespace {
 
+// --target R,G,B: one linear colour.
+RGB parseTargetColour(const std::string& text) {
+    const Vec3f c = parseTriple("--target", text);
+    for (float x : {c.x, c.y, c.z})
+        if (!(x >= 0 && x <= 1)) throw UsageError("--target colour components must be in [0, 1] (linear RGB)");
+    return {c.x, c.y, c.z};
+}
+
 // Per surface voxel: the colour of the textured model at the nearest point
 // of its surface, or one colour for all.
 // A target model is placed (and repaired) as the scene's mesh is.
 std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& placement, bool repair, const Predictor& predictor,
                              const std::vector<Vec3i>& voxels) {
     std::filesystem::path file(target);
-    if (!std::filesystem::exists(file)) {
-        Vec3f c = parseTriple("--target", target);
-        for (float x : {c.x, c.y, c.z})
-            if (!(x >= 0 && x <= 1)) throw UsageError("--target colour components must be in [0, 1] (linear RGB)");
-        return std::vector<RGB>(voxels.size(), RGB{c.x, c.y, c.z});
-    }
+    if (!std::filesystem::exists(file)) return std::vector<RGB>(voxels.size(), parseTargetColour(target));
     MeshRepairSummary repaired;
     MeshAsset asset = loadMeshAsset(file, placement, repair ? &repaired : nullptr);
     if (!asset.appearance.hasColor()) throw InputError(file.string(), "the model has no colours to aim at");
@@ -73,40 +76,44 @@ std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& pla
 int optimizeCommand(const std::vector<std::string>& argv) {
     Arguments args("optimize", argv,
                    {{"--target", "MODEL|R,G,B", "the colours to match: a textured .gltf/.glb/.obj or one linear RGB"},
-                    {"--iterations", "N", "loop iterations"},
+                    {"--iterations", "N", "the most loop iterations (default 16; it stops sooner when its score stops falling)"},
+                    {"--time", "S", "no new iteration past S seconds of the loop"},
                     kSppOption,
                     kSeedOption,
-                    {"--step", "X", "how far each iteration moves the labels towards the target (0..1]"},
+                    {"--step", "X", "share of the error one iteration corrects, at each voxel's measured gain (0..2]"},
                     {"--shell-mm", "D", "depth of the shell whose labels change"},
                     kThreadsOption,
                     integratorOption(),
                     {"--predictor", "NAME|auto",
                      "predict with that estimator (as --integrator), or auto: diffusion while its score falls, then "
-                     "the scene's (or --integrator's) Monte Carlo"},
+                     "volpath"},
                     {"--judge-spp", "N", "render the final labels apart (the scene file's estimator, N spp) and score them"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
                     {"--update-footprint-mm", "S",
                      "average each iteration's error with a Gaussian of this sigma on the surface (default 0.2, the "
-                     "eye's footprint; 0: over the neighbouring voxels)"},
+                     "eye's footprint; 0: per voxel)"},
                     kChannelSamplingOption,
-                    {"--score-radius", "R", "voxels around each surface voxel its colour is scored over (0..8)"},
-                    {"--no-gamut-map", "", "match the target as given, without mapping it into the printable gamut"},
-                    {"-o,--output", "PREFIX", "outputs PREFIX.csv and PREFIX_labels.vdb"}});
+                    {"--gamut", "FILE", "the printer's characterisation (default: the material table's, made on first use)"},
+                    {"--no-gamut-map", "", "aim at the target as given, not at its nearest printable colour"},
+                    {"-o,--output", "PREFIX", "outputs PREFIX.csv, PREFIX_labels.vdb, PREFIX.html and its models"}});
     if (args.positional().size() != 1) throw UsageError("optimize needs exactly one SCENE.json");
     auto target = args.value("--target");
     if (!target) throw UsageError("optimize needs --target MODEL.gltf|.glb|.obj or --target R,G,B (linear)");
     OptimizeSettings os;
-    os.iterations = int(args.integer("--iterations", 0, 10000).value_or(os.iterations));
+    os.maxIterations = int(args.integer("--iterations", 0, 10000).value_or(os.maxIterations));
+    if (auto t = args.number("--time")) {
+        if (!(*t > 0)) throw UsageError("--time must be positive (seconds)");
+        os.timeBudget_s = *t;
+    }
     os.gamutMap = !args.has("--no-gamut-map");
-    if (auto s = args.value("--step")) {
-        os.step = float(std::atof(s->c_str()));
-        if (!(os.step > 0 && os.step <= 4)) throw UsageError("--step must be in (0, 4]");
+    if (auto s = args.number("--step")) {
+        if (!(*s > 0 && *s <= 2)) throw UsageError("--step must be in (0, 2]");
+        os.step = float(*s);
     }
-    if (auto s = args.value("--shell-mm")) {
-        os.shellDepth_mm = float(std::atof(s->c_str()));
-        if (!(os.shellDepth_mm >= 0 && os.shellDepth_mm <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
+    if (auto s = args.number("--shell-mm")) {
+        if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
+        os.shellDepth_mm = float(*s);
     }
-    os.scoreRadius = int(args.integer("--score-radius", 0, 8).value_or(os.scoreRadius));
     if (auto s = args.number("--update-footprint-mm")) {
         if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
         os.updateFootprint_mm = float(*s);
@@ -123,20 +130,30 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     std::filesystem::path prefix = args.value("-o").value_or("out/" + desc.sceneFile.stem().string() + "_optimize");
     const std::filesystem::path csvFile = prefix.string() + ".csv", labelsFile = prefix.string() + "_labels.vdb";
     const std::filesystem::path targetGlb = prefix.string() + "_target.glb",
+                                mappedGlb = prefix.string() + "_mapped.glb",
                                 predictionGlb = prefix.string() + "_prediction.glb",
                                 errorGlb = prefix.string() + "_error.glb", reportFile = prefix.string() + ".html";
     std::vector<std::filesystem::path> inputs = desc.inputFiles();
     if (std::filesystem::exists(*target)) inputs.push_back(*target);
-    for (const auto& out : {csvFile, labelsFile, targetGlb, predictionGlb, errorGlb, reportFile})
+    else parseTargetColour(*target);  // a bad colour is refused before anything loads
+    if (auto file = args.value("--gamut"); file && !std::filesystem::exists(*file))
+        throw InputError(*file, "no such file (the printer's characterisation, --gamut)");
+    for (const auto& out : {csvFile, labelsFile, targetGlb, mappedGlb, predictionGlb, errorGlb, reportFile})
         refuseToOverwriteInputs(out, inputs);
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
-    if (args.has("--integrator") || args.has("--predictor")) desc.render.volpath.reentry = false;  // surface prediction
+    desc.render.volpath.reentry = false;  // surface prediction
     // The judge renders with the scene file's own Monte Carlo estimator,
     // whatever predicts (a deterministic predictor cannot judge itself).
     RenderSettings judge = desc.render;
     if (integratorKindOf(judge).deterministic) chooseIntegrator(judge, "volpath", "the judge");
     os.judgeIntegrator = judge.integrator;
+    // By default the loop's measured best (docs/api.md): volpath at 2 spp,
+    // whatever the scene file renders with.
+    if (!args.has("--integrator") && predictorName.empty()) {
+        chooseIntegrator(desc.render, "volpath", "optimize");
+        desc.render.spp = 2;
+    }
     applyRenderOptions(args, desc.render);
     desc.render.channels = {0, 1, 2};
     if (predictorName == "auto") {
@@ -153,21 +170,32 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     // (each renders its share of them); rank 0 speaks and writes.
     const bool speaks = Distributed::rank() == 0;
     predictor.setAcrossRanks(Distributed::ranks() > 1);
+    CharacterisationSettings cs;
+    cs.voxel_mm = predictor.worldFrame().voxelSize_mm;
+    cs.ior = desc.ior;
+    const PrinterGamut gamut = [&] {
+        auto say = [&](const std::string& line) {
+            if (speaks) std::printf("%s\n", line.c_str());
+        };
+        if (auto file = args.value("--gamut")) return readPrinterGamutFile(*file, desc.materialsFile, cs, say);
+        return printerGamutFor(desc.materialsFile, cs, say);
+    }();
     const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
     std::vector<RGB> targets = loadTargets(*target, desc.meshPlacement, desc.meshRepair, predictor, voxels);
     if (speaks)
         std::printf("optimize: %s: %zu surface voxels, %s, %u spp, loaded in %.2f s\n", desc.sceneFile.string().c_str(),
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
-        "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor\n";
+        "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
+        "noise_de2000\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
-    OptimizeResult result = optimizeAppearance(predictor, targets, os, [&](const OptimizeIteration& it) {
-        char line[160];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s\n", it.iteration, it.meanDeltaE,
+    OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
+        char line[192];
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f\n", it.iteration, it.meanDeltaE,
                       it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels,
-                      it.predictor.c_str());
+                      it.predictor.c_str(), it.noiseDeltaE);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
@@ -175,28 +203,27 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         csv << line;
     });
     if (!speaks) return 0;
-    if (os.gamutMap)
-        std::printf("targets mapped into the printable range: black shell reflectance %.3f %.3f %.3f, white %.3f %.3f %.3f\n",
-                    result.gamutBlack[0], result.gamutBlack[1], result.gamutBlack[2], result.gamutWhite[0],
-                    result.gamutWhite[1], result.gamutWhite[2]);
     const auto& its = result.iterations;
-    std::printf("mean CIEDE2000 (over %d-voxel neighbourhoods) %.3f -> %.3f (%.1f %% lower), 95th percentile "
-                "%.3f -> %.3f; per voxel %.3f -> %.3f\n",
-                os.scoreRadius, its.front().meanDeltaE, its.back().meanDeltaE,
-                100.0 * (1.0 - its.back().meanDeltaE / its.front().meanDeltaE), its.front().p95DeltaE,
-                its.back().p95DeltaE, its.front().meanDeltaEPerVoxel, its.back().meanDeltaEPerVoxel);
+    const OptimizeIteration& best = its[size_t(result.bestIteration)];
+    const SurfaceColourError& loss = result.mappingLoss;
+    std::printf("mapping loss (the target as given -> the nearest printable colours): mean CIEDE2000 %.3f, 95th "
+                "percentile %.3f over the eye's %g mm footprint%s\n",
+                loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm, os.gamutMap ? "" : " (not applied: --no-gamut-map)");
+    double loopSeconds = 0;
+    for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
+    std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; noise %.2f), "
+                "95th percentile %.3f -> %.3f; stopped at %s; %.1f s\n",
+                its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
+                its.front().p95DeltaE, best.p95DeltaE, result.stoppedBecause.c_str(), loopSeconds);
     if (its.front().predictor != its.back().predictor)
         std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
                     "like with like)\n",
                     its.front().predictor.c_str(), its.back().predictor.c_str());
-    double loopSeconds = 0;
-    for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
-    std::printf("the loop took %.1f s\n", loopSeconds);
     if (const auto& j = result.judgement) {
-        std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): mean CIEDE2000 %.3f, 95th percentile %.3f per voxel; "
-                    "over the eye's %g mm footprint %.3f, 95th percentile %.3f\n",
-                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, j->meanDeltaE, j->p95DeltaE,
-                    kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered);
+        std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): loop error (mapped target -> print) over the eye's "
+                    "%g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
+                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, kEyeFootprint_mm,
+                    j->meanDeltaEFiltered, j->p95DeltaEFiltered, j->meanDeltaE, j->p95DeltaE);
         // Its noise falls as the square root of its samples.
         const double wanted = 0.5, enough = std::ceil(j->spp * std::pow(j->noiseDeltaEFiltered / wanted, 2));
         const bool shared = j->noiseIsLowerBound;
@@ -213,28 +240,34 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     final.placeCornerAt(predictor.worldFrame().cornerMin_mm);
     writeLabelGridVdb(final, labelsFile);
 
-    // The last iteration on the model: target, prediction and the
-    // per-voxel CIEDE2000, and the page that shows them with the history.
+    // The best iteration on the model as the eye sees it (over its
+    // footprint): the target as given and as mapped, the prediction and
+    // CIEDE2000; the page that shows them with the history.
     const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair), predictor.worldFrame(), voxels);
-    writePredictionGlb(patches, result.finalTarget, targetGlb);
-    writePredictionGlb(patches, result.finalPredicted, predictionGlb);
-    std::vector<RGB> errorColors(result.finalDeltaE.size());
-    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(result.finalDeltaE[i]);
+    writePredictionGlb(patches, result.targetSeen, targetGlb);
+    writePredictionGlb(patches, result.mappedSeen, mappedGlb);
+    writePredictionGlb(patches, result.predictedSeen, predictionGlb);
+    std::vector<RGB> errorColors(result.deltaESeen.size());
+    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(result.deltaESeen[i]);
     writePredictionGlb(patches, errorColors, errorGlb);
     HtmlReport report;
     report.title = "printlight optimize: " + desc.sceneFile.filename().string();
-    char summary[256];
+    char summary[400];
     std::snprintf(summary, sizeof summary,
-                  "%d iterations, %u spp, %s; mean CIEDE2000 %.2f -> %.2f. Error map: blue 0, green 2.5, "
-                  "yellow 5, red 10 or more.",
-                  os.iterations, predictor.settings().spp, predictor.settings().integrator.c_str(),
-                  its.front().meanDeltaE, its.back().meanDeltaE);
+                  "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
+                  "(mapped target -> prediction, iteration %d; %s, %u spp)%s. Error map: blue 0, green 2.5, yellow 5, "
+                  "red 10 or more.",
+                  kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
+                  predictor.settings().integrator.c_str(), predictor.settings().spp,
+                  result.judgement ? (", judged " + std::to_string(result.judgement->meanDeltaEFiltered).substr(0, 4)).c_str()
+                                   : "");
     report.summary = summary;
-    report.models = {{"target", targetGlb}, {"prediction", predictionGlb}, {"CIEDE2000", errorGlb}};
+    report.models = {{"target", targetGlb}, {"target mapped", mappedGlb}, {"prediction", predictionGlb},
+                     {"CIEDE2000", errorGlb}};
     for (const OptimizeIteration& it : its) report.history.push_back({double(it.iteration), it.meanDeltaE});
-    report.historyLabel = "mean CIEDE2000";
+    report.historyLabel = "mean CIEDE2000 over the footprint";
     writeHtmlReport(report, reportFile);
-    std::printf("wrote %s, %s, %s_{target,prediction,error}.glb and %s\n", csvFile.string().c_str(),
+    std::printf("wrote %s, %s, %s_{target,mapped,prediction,error}.glb and %s\n", csvFile.string().c_str(),
                 labelsFile.string().c_str(), prefix.string().c_str(), reportFile.string().c_str());
     return 0;
 }

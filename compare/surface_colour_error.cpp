@@ -46,20 +46,23 @@ RGB deltaEColour(float deltaE) {
 
 SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
                                       const std::vector<RGB>& reference, float footprintSigma_mm) {
+    return surfaceColourError(SurfaceGaussian(points_mm, footprintSigma_mm), predicted, reference);
+}
+
+SurfaceColourError surfaceColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& predicted,
+                                      const std::vector<RGB>& reference) {
     SurfaceColourError e;
     e.perVoxel = deltaEs(predicted, reference);
     const DeltaEStats raw = meanAndP95(e.perVoxel);
     e.mean = raw.mean;
     e.p95 = raw.p95;
-    const SurfaceGaussian footprint(points_mm, footprintSigma_mm);
     const DeltaEStats filtered = meanAndP95(deltaEs(footprint.apply(predicted), footprint.apply(reference)));
     e.meanFiltered = filtered.mean;
     e.p95Filtered = filtered.p95;
     return e;
 }
 
-SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& colours,
-                                    const std::vector<RGB>& standardErrors, uint64_t seed, float footprintSigma_mm) {
+std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed) {
     std::vector<RGB> moved(colours);
     for (size_t i = 0; i < moved.size(); ++i) {
         Rng rng(seed, i);
@@ -69,7 +72,18 @@ SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const
             moved[i][c] += standardErrors[i][c] * std::sqrt(-2.0f * std::log(u1)) * std::cos(2.0f * kPi * u2);
         }
     }
-    return surfaceColourError(points_mm, moved, colours, footprintSigma_mm);
+    return moved;
+}
+
+SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& colours,
+                                    const std::vector<RGB>& standardErrors, uint64_t seed, float footprintSigma_mm) {
+    return noiseColourError(SurfaceGaussian(points_mm, footprintSigma_mm), colours, standardErrors, seed);
+}
+
+SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& colours,
+                                    const std::vector<RGB>& standardErrors, uint64_t seed) {
+    const std::vector<RGB> moved = movedByNoise(colours, standardErrors, seed);
+    return surfaceColourError(footprint, moved, colours);
 }
 
 }  // namespace pl

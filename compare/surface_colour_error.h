@@ -35,6 +35,10 @@ DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b);
 SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& predicted,
                                       const std::vector<RGB>& reference, float footprintSigma_mm = kEyeFootprint_mm);
 
+// The same with a footprint built once (a loop scores many times).
+SurfaceColourError surfaceColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& predicted,
+                                      const std::vector<RGB>& reference);
+
 // The CIEDE2000 a render's own noise makes: the error between its colours
 // and the same colours moved by one draw of their standard errors (normal,
 // from `seed`). For noise small against the colours that is distributed
@@ -43,6 +47,12 @@ SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, con
 SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const std::vector<RGB>& colours,
                                     const std::vector<RGB>& standardErrors, uint64_t seed = 1,
                                     float footprintSigma_mm = kEyeFootprint_mm);
+SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& colours,
+                                    const std::vector<RGB>& standardErrors, uint64_t seed = 1);
+
+// The colours moved by one draw of their standard errors (normal, from
+// `seed`; the same bits whatever the threads).
+std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed);
 
 // A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
 // 5, red 10 and above.

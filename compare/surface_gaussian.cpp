@@ -48,16 +48,25 @@ SurfaceGaussian::SurfaceGaussian(const std::vector<Point3f>& points_mm, float si
 }
 
 std::vector<RGB> SurfaceGaussian::apply(const std::vector<RGB>& values) const {
-    std::vector<RGB> sortedValues(values.size());
-    for (size_t k = 0; k < order_.size(); ++k) sortedValues[k] = values[order_[k]];
-    std::vector<RGB> out(values.size());
+    return std::move(apply(std::vector<const std::vector<RGB>*>{&values}).front());
+}
+
+std::vector<std::vector<RGB>> SurfaceGaussian::apply(const std::vector<const std::vector<RGB>*>& lists) const {
+    const size_t m = lists.size();
+    // Values cell by cell, the lists' values of one point side by side.
+    std::vector<RGB> sortedValues(order_.size() * m);
+    for (size_t k = 0; k < order_.size(); ++k)
+        for (size_t l = 0; l < m; ++l) sortedValues[k * m + l] = (*lists[l])[order_[k]];
+    std::vector<std::vector<RGB>> out(m, std::vector<RGB>(order_.size()));
     const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
     parallelForTiles(cells_.size(), 16, [&](size_t begin, size_t end) {
+        std::vector<double> sum(3 * m);
         for (size_t c = begin; c < end; ++c) {
             const Cell& cell = cells_[c];
             for (uint32_t k = cell.first; k < cell.first + cell.count; ++k) {
                 const Point3f& x = sorted_mm_[k];
-                double sum[3] = {0, 0, 0}, weights = 0;
+                std::fill(sum.begin(), sum.end(), 0.0);
+                double weights = 0;
                 for (int32_t n : cell.neighbours) {
                     if (n < 0) continue;
                     const Cell& other = cells_[size_t(n)];
@@ -67,10 +76,13 @@ std::vector<RGB> SurfaceGaussian::apply(const std::vector<RGB>& values) const {
                         if (dSq > reachSq) continue;
                         const float w = std::exp(-dSq * inverseTwoSigmaSq);
                         weights += w;
-                        for (int ch = 0; ch < 3; ++ch) sum[ch] += w * sortedValues[j][ch];
+                        const RGB* v = &sortedValues[size_t(j) * m];
+                        for (size_t l = 0; l < m; ++l)
+                            for (int ch = 0; ch < 3; ++ch) sum[3 * l + size_t(ch)] += w * v[l][size_t(ch)];
                     }
                 }
-                for (int ch = 0; ch < 3; ++ch) out[order_[k]][ch] = float(sum[ch] / weights);
+                for (size_t l = 0; l < m; ++l)
+                    for (int ch = 0; ch < 3; ++ch) out[l][order_[k]][size_t(ch)] = float(sum[3 * l + size_t(ch)] / weights);
             }
         }
     });

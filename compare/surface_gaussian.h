@@ -21,6 +21,9 @@ public:
     // values averaged with weights exp(-d^2 / (2 sigma^2)) over the points
     // within 3 sigma of each point (the same bits whatever the threads).
     std::vector<RGB> apply(const std::vector<RGB>& values) const;
+    // The same for several lists of values at once (the weights are
+    // computed once).
+    std::vector<std::vector<RGB>> apply(const std::vector<const std::vector<RGB>*>& lists) const;
 
 private:
     float sigma_mm_;

@@ -30,13 +30,16 @@ void writePrinterGamut(const PrinterGamut& gamut, const std::string& key, const 
     writeTextFile(file, j.dump(1) + "\n");
 }
 
-std::optional<PrinterGamut> readPrinterGamut(const std::filesystem::path& file, const std::string& key) {
+std::optional<PrinterGamut> readPrinterGamut(const std::filesystem::path& file, const std::string& key,
+                                             std::string* keyFound) {
     if (!std::filesystem::exists(file)) return std::nullopt;
     JsonReader json(file);
     const nlohmann::json& root = json.root();
     if (!root.is_object() || json.string(root, "format", "the file", "") != kFormat)
         json.fail("format", std::string("is not a printer characterisation (") + kFormat + ")");
-    if (json.string(root, "key", "the file") != key) return std::nullopt;
+    const std::string fileKey = json.string(root, "key", "the file");
+    if (keyFound) *keyFound = fileKey;
+    if (!key.empty() && fileKey != key) return std::nullopt;
     const int64_t levels = json.integer(root, "levels", "the file");
     if (levels < 1 || levels > 64) json.fail("levels", "must be in [1, 64]");
     const size_t count = PrinterGamut::gridMixtures(int(levels)).size();

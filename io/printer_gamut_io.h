@@ -16,8 +16,10 @@ namespace pl {
 void writePrinterGamut(const PrinterGamut& gamut, const std::string& key, const std::string& settingsJson,
                        const std::filesystem::path& file);
 
-// The gamut in `file` if it exists and was made under `key` (nothing
-// otherwise); throws InputError if the file is malformed.
-std::optional<PrinterGamut> readPrinterGamut(const std::filesystem::path& file, const std::string& key);
+// The gamut in `file` if it exists and was made under `key` (any key if
+// empty; nothing otherwise); throws InputError if the file is malformed.
+// keyFound: the file's key.
+std::optional<PrinterGamut> readPrinterGamut(const std::filesystem::path& file, const std::string& key,
+                                             std::string* keyFound = nullptr);
 
 }  // namespace pl

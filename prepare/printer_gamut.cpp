@@ -62,9 +62,12 @@ PrinterGamut::PrinterGamut(int levels, std::vector<RGB> reflectance, std::vector
     const size_t count = gridMixtures(levels).size();
     if (reflectance_.size() != count || standardError_.size() != count)
         throw std::invalid_argument("PrinterGamut: one reflectance and error per grid mixture");
-    density_.resize(count);
+    absorptionOverScattering_.resize(count);
     for (size_t i = 0; i < count; ++i)
-        for (int c = 0; c < 3; ++c) density_[i][size_t(c)] = -std::log(std::max(reflectance_[i][size_t(c)], 1e-6f));
+        for (int c = 0; c < 3; ++c) {
+            const double R = std::clamp(double(reflectance_[i][size_t(c)]), 1e-6, 1.0);
+            absorptionOverScattering_[i][size_t(c)] = float((1 - R) * (1 - R) / (2 * R));
+        }
     const size_t n = size_t(levels) + 1;
     gridIndexOfVertex_.assign(n * n * n * n, -1);
     int32_t next = 0;
@@ -76,7 +79,6 @@ PrinterGamut::PrinterGamut(int levels, std::vector<RGB> reflectance, std::vector
     for (const MaterialFractions& m : denseMixtures_) denseColours_.push_back(colour(m));
 }
 
-double PrinterGamut::density(size_t gridIndex, int channel) const { return density_[gridIndex][size_t(channel)]; }
 
 RGB PrinterGamut::reflectance(const MaterialFractions& mixture) const {
     // Cumulative coordinates, scaled to the grid; the simplex of the Kuhn
@@ -105,24 +107,37 @@ RGB PrinterGamut::reflectance(const MaterialFractions& mixture) const {
     auto add = [&](double w) {
         if (w <= 0) return;
         const int32_t g = gridIndexOfVertex_[vertexKey(v, n)];
-        for (int c = 0; c < 3; ++c) d[c] += w * density(size_t(g), c);
+        for (int c = 0; c < 3; ++c) d[c] += w * absorptionOverScattering_[size_t(g)][size_t(c)];
     };
     add(1.0 - frac[size_t(order[0])]);
     for (int k = 0; k < 4; ++k) {
         ++v[size_t(order[size_t(k)])];
         add(frac[size_t(order[size_t(k)])] - (k < 3 ? frac[size_t(order[size_t(k) + 1])] : 0.0));
     }
-    return {float(std::exp(-d[0])), float(std::exp(-d[1])), float(std::exp(-d[2]))};
+    // Kubelka-Munk's reflectance of an opaque layer with that K/S.
+    RGB r;
+    for (int c = 0; c < 3; ++c) r[size_t(c)] = float(1 + d[c] - std::sqrt(d[c] * d[c] + 2 * d[c]));
+    return r;
 }
 
 PrinterGamut::Match PrinterGamut::closest(const Lab& target) const {
-    size_t best = 0;
-    double bestD = squaredDistance(denseColours_[0], target);
-    for (size_t i = 1; i < denseColours_.size(); ++i) {
+    // From the few nearest mixtures of the dense table: the descent can
+    // stall on a face of the simplex that a neighbouring start avoids.
+    constexpr size_t kStarts = 4;
+    std::vector<std::pair<double, size_t>> nearest;
+    for (size_t i = 0; i < denseColours_.size(); ++i) {
         const double d = squaredDistance(denseColours_[i], target);
-        if (d < bestD) bestD = d, best = i;
+        if (nearest.size() < kStarts || d < nearest.back().first) {
+            if (nearest.size() == kStarts) nearest.pop_back();
+            nearest.insert(std::upper_bound(nearest.begin(), nearest.end(), std::make_pair(d, i)), {d, i});
+        }
     }
-    return closest(target, denseMixtures_[best]);
+    Match best = closest(target, denseMixtures_[nearest[0].second]);
+    for (size_t k = 1; k < nearest.size() && best.deltaEab > 0.01; ++k) {
+        const Match m = closest(target, denseMixtures_[nearest[k].second]);
+        if (m.deltaEab < best.deltaEab) best = m;
+    }
+    return best;
 }
 
 PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFractions& start) const {
@@ -133,7 +148,9 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFract
     double cost = squaredDistance(c, target);
     double lambda = 1e-3;
     constexpr double h = 1e-3;
-    for (int iteration = 0; iteration < 60 && cost > 1e-8; ++iteration) {
+    // Until within 0.01 Delta E*ab, or a step shortens the squared distance
+    // by under 0.01 % (outside the gamut: on its surface).
+    for (int iteration = 0; iteration < 60 && cost > 1e-4; ++iteration) {
         const int pivot = int(std::max_element(m.begin(), m.end()) - m.begin());
         int free[4], k = 0;
         for (int i = 0; i < kPrintMaterials; ++i)
@@ -157,7 +174,7 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFract
             }
         }
         bool improved = false;
-        for (int attempt = 0; attempt < 12 && !improved; ++attempt) {
+        for (int attempt = 0; attempt < 8; ++attempt) {
             // Solve (A + lambda (diag A + eps)) delta = -g by Gaussian elimination.
             double M[4][5];
             for (int i = 0; i < 4; ++i) {
@@ -189,11 +206,9 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFract
             const Lab cq = colour(q);
             const double costQ = squaredDistance(cq, target);
             if (costQ < cost) {
-                const bool tiny = cost - costQ < 1e-9 * (1 + cost);
+                improved = cost - costQ > 1e-4 * cost;
                 m = q, c = cq, cost = costQ;
                 lambda = std::max(lambda / 3, 1e-7);
-                improved = !tiny;
-                if (tiny) iteration = 1 << 20;
                 break;
             }
             lambda *= 4;

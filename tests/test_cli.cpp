@@ -60,6 +60,19 @@ struct TestScene {
     }
 };
 
+// The printer's characterisation for TestScene's voxels, small and quick
+// (optimize would otherwise make the full one on first use).
+std::string smallGamut(const TestScene& s) {
+    const fs::path file = s.dir / "gamut.json";
+    if (!fs::exists(file)) {
+        const CliRun r = printlight("characterise " + (s.dir / "materials.json").string() +
+                                        " --levels 2 --cube-mm 3 --voxel-mm 0.1,0.1,0.1 --spp 4 -o " + file.string(),
+                                    s.dir);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+    }
+    return " --gamut " + file.string();
+}
+
 void expectCleanFailure(const TestScene& s, const CliRun& r, const std::string& fileNeedle,
                         const std::string& problemNeedle) {
     EXPECT_EQ(r.exitCode, 1) << r.err;
@@ -226,7 +239,7 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     // optimize: every rank runs the loop on the same predictions, each
     // rendering its share of them (adaptive rounds too).
     const std::string launcher = std::string("mpirun --oversubscribe") + (::getuid() == 0 ? " --allow-run-as-root" : "");
-    const std::string optimize = std::string(" optimize ") + s.write().string() +
+    const std::string optimize = std::string(" optimize ") + s.write().string() + smallGamut(s) +
                                  " --target 0.2,0.45,0.8 --iterations 2 --spp 2 --threads 1 -o ";
     ASSERT_EQ(printlight(optimize + (s.dir / "one" / "opt").string(), s.dir).exitCode, 0);
     const std::string optimizeOnRanks = launcher + " -n 2 " + PRINTLIGHT_EXE + optimize + (s.dir / "two" / "opt").string() +
@@ -865,28 +878,39 @@ TEST(Cli, PredictRunsTheApiLikeALoop) {
 TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     TestScene s("optimize");
     fs::path prefix = s.dir / "out" / "opt";
-    CliRun r = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --iterations 8 --spp 4 -o " +
-                              prefix.string(), s.dir);
+    CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
+                              " --target 0.2,0.45,0.8 --iterations 8 --spp 4 -o " + prefix.string(),
+                          s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     auto rows = readCsvNumbers(prefix.string() + ".csv");
-    ASSERT_EQ(rows.size(), 9u);
-    // All white at first; a blue the shell can print is far closer after eight iterations.
+    ASSERT_GE(rows.size(), 3u);
+    ASSERT_LE(rows.size(), 9u);  // at most 8 iterations; it may stop sooner
+    // All white at first; a blue the shell can print is far closer once
+    // the characterised mixtures are printed, and the loop does not make
+    // it worse again by more than its noise.
     EXPECT_GT(rows[0][1], 20.0);
-    EXPECT_LT(rows[8][1], 0.6 * rows[0][1]) << r.out;
+    EXPECT_LT(rows[1][1], 0.5 * rows[0][1]) << r.out;
+    for (size_t i = 2; i < rows.size(); ++i) EXPECT_LT(rows[i][1], rows[i - 1][1] + rows[i][8]) << r.out;
     EXPECT_GT(rows[1][6], 0.0);  // labels changed
+    EXPECT_NE(r.out.find("mapping loss"), std::string::npos) << r.out;
     LabelGrid labels = loadLabelGrid(prefix.string() + "_labels.vdb", std::nullopt);
     EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
     EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
-    // The last iteration on the model, and the page with the history.
-    for (const char* part : {"_target.glb", "_prediction.glb", "_error.glb"})
+    // The best iteration on the model, and the page with the history.
+    for (const char* part : {"_target.glb", "_mapped.glb", "_prediction.glb", "_error.glb"})
         EXPECT_GT(fs::file_size(prefix.string() + part), 1000u) << part;
     const std::string page = readText(prefix.string() + ".html");
-    for (const char* label : {"\"target\"", "\"prediction\"", "\"CIEDE2000\""})
+    for (const char* label : {"\"target\"", "\"target mapped\"", "\"prediction\"", "\"CIEDE2000\""})
         EXPECT_NE(page.find(label), std::string::npos) << label;
     EXPECT_NE(page.find("\"history\":[{\"iteration\":0.0"), std::string::npos);
+    EXPECT_FALSE(fs::exists(s.dir / "cache" / "printlight"));  // the named characterisation, none made
     CliRun bad = printlight("optimize " + s.write().string() + " --target 2,0,0", s.dir);
     EXPECT_EQ(bad.exitCode, 2) << bad.err;
     EXPECT_NE(bad.err.find("--target"), std::string::npos) << bad.err;
+    CliRun noGamut = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --gamut " +
+                                    (s.dir / "none.json").string(), s.dir);
+    EXPECT_EQ(noGamut.exitCode, 1) << noGamut.err;
+    EXPECT_NE(noGamut.err.find("none.json"), std::string::npos) << noGamut.err;
 }
 
 // The fast predictor first, then Monte Carlo, and the final labels judged
@@ -896,21 +920,23 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
 TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
     TestScene s("optimize_auto");
     fs::path prefix = s.dir / "out" / "opt";
-    CliRun r = printlight("optimize " + s.write().string() +
+    CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
                               " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 -o " + prefix.string(),
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto cells = readCsvCells(prefix.string() + ".csv");
-    ASSERT_EQ(cells.size(), 7u);  // iterations 0-6
-    EXPECT_EQ(cells[0].back(), "diffusion");
-    EXPECT_EQ(cells[6].back(), "volpath");  // the scene's estimator by the end (its score flattens)
+    ASSERT_GE(cells.size(), 3u);  // iterations 0-6, or fewer once the score stops falling
+    ASSERT_LE(cells.size(), 7u);
+    EXPECT_EQ(cells[0][7], "diffusion");
+    EXPECT_EQ(cells.back()[7], "volpath");  // Monte Carlo by the end (diffusion's score flattens)
     const auto rows = readCsvNumbers(prefix.string() + ".csv");
     const size_t at = r.out.find("judged apart (volpath, 8 spp, seed 99");
     ASSERT_NE(at, std::string::npos) << r.out;
     double perVoxel = 0, p95 = 0, filtered = 0;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("mean CIEDE2000", at), "mean CIEDE2000 %lf, 95th percentile %lf",
-                          &perVoxel, &p95), 2) << r.out;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("footprint", at), "footprint %lf", &filtered), 1) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("footprint", at),
+                          "footprint %lf, 95th percentile %lf; per voxel %lf", &filtered, &p95, &perVoxel),
+              3)
+        << r.out;
     EXPECT_LT(filtered, 0.6 * rows[0][1]) << r.out;
     EXPECT_LE(filtered, perVoxel) << r.out;  // averaging over the footprint removes noise
     CliRun bad = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --predictor fast", s.dir);

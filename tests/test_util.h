@@ -110,7 +110,9 @@ struct CliRun {
 
 // Runs the printlight program with its output captured in files in dir.
 inline CliRun runPrintlight(const std::string& args, const std::filesystem::path& dir) {
-    std::string cmd = std::string(PRINTLIGHT_EXE) + " " + args + " >" + (dir / "stdout.txt").string() +
+    // Its own cache folder (the printer's characterisation), inside the test's.
+    std::string cmd = "XDG_CACHE_HOME=" + (dir / "cache").string() + " " + std::string(PRINTLIGHT_EXE) + " " + args +
+                      " >" + (dir / "stdout.txt").string() +
                       " 2>" + (dir / "stderr.txt").string();
     int status = std::system(cmd.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readText(dir / "stdout.txt"),

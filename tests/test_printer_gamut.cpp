@@ -1,0 +1,242 @@
+// The printer's gamut (prepare/printer_gamut.h) and its characterisation
+// (api/printer_characterisation.h): the interpolation on the mixing
+// simplex, the inverse, the mapping into the gamut, the characterisation
+// against independent renders, and the cache.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "api/printer_characterisation.h"
+#include "compare/color_difference.h"
+#include "core/rng.h"
+#include "core/sensors.h"
+#include "io/materials_io.h"
+#include "io/printer_gamut_io.h"
+#include "scene/render.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+// A random point of the mixing simplex (uniform: normalised exponentials).
+MaterialFractions randomMixture(Rng& rng) {
+    MaterialFractions m;
+    float sum = 0;
+    for (float& x : m) sum += (x = -std::log(std::max(rng.uniform(), 1e-7f)));
+    for (float& x : m) x /= sum;
+    return m;
+}
+
+// Kubelka-Munk's reflectance for K/S linear in the mixture: the forward
+// model's interpolation is exact for it.
+RGB linearKmReflectance(const MaterialFractions& m) {
+    const float ks[5][3] = {{2.0f, 0.1f, 0.15f}, {0.1f, 1.5f, 0.3f}, {0.05f, 0.1f, 3.0f}, {4, 4, 4}, {0.02f, 0.03f, 0.05f}};
+    RGB r;
+    for (int c = 0; c < 3; ++c) {
+        double k = 0;
+        for (int i = 0; i < 5; ++i) k += m[size_t(i)] * ks[i][c];
+        r[size_t(c)] = float(1 + k - std::sqrt(k * k + 2 * k));
+    }
+    return r;
+}
+
+PrinterGamut gamutOf(int levels, RGB (*reflectanceOf)(const MaterialFractions&)) {
+    std::vector<RGB> r, e;
+    for (const MaterialFractions& m : PrinterGamut::gridMixtures(levels)) {
+        r.push_back(reflectanceOf(m));
+        e.push_back({0, 0, 0});
+    }
+    return PrinterGamut(levels, r, e);
+}
+
+TEST(PrinterGamut, GridCoversTheSimplex) {
+    for (int levels : {1, 2, 4, 8}) {
+        const auto grid = PrinterGamut::gridMixtures(levels);
+        // Compositions of `levels` into five parts: C(levels + 4, 4).
+        const size_t expected = size_t(levels + 1) * (levels + 2) * (levels + 3) * (levels + 4) / 24;
+        EXPECT_EQ(grid.size(), expected);
+        for (const MaterialFractions& m : grid) {
+            float sum = 0;
+            for (float x : m) {
+                EXPECT_GE(x, 0.0f);
+                sum += x;
+            }
+            EXPECT_NEAR(sum, 1.0f, 1e-6f);
+        }
+    }
+}
+
+TEST(PrinterGamut, InterpolationIsExactWhereKubelkaMunkIsLinear) {
+    const PrinterGamut gamut = gamutOf(3, linearKmReflectance);
+    Rng rng(7, 0);
+    for (int k = 0; k < 2000; ++k) {
+        const MaterialFractions m = randomMixture(rng);
+        const RGB want = linearKmReflectance(m), got = gamut.reflectance(m);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[size_t(c)], want[size_t(c)], 2e-5f) << k;
+    }
+    // On the simplex's faces and corners too.
+    for (const MaterialFractions& m : PrinterGamut::gridMixtures(6)) {
+        const RGB want = linearKmReflectance(m), got = gamut.reflectance(m);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(got[size_t(c)], want[size_t(c)], 2e-5f);
+    }
+}
+
+// A forward model that is not linear in K/S: the inverse must still reach
+// every colour of the gamut (mapping is the identity inside it), and
+// outside it land no farther than any mixture tried at random.
+RGB curvedReflectance(const MaterialFractions& m) {
+    RGB r = linearKmReflectance(m);
+    for (float& x : r) x = x * (0.8f + 0.2f * x);
+    return r;
+}
+
+TEST(PrinterGamut, InverseReachesEveryColourInsideAndTheNearestOutside) {
+    const PrinterGamut gamut = gamutOf(4, curvedReflectance);
+    Rng rng(11, 0);
+    double worst = 0;
+    for (int k = 0; k < 300; ++k) {
+        const Lab target = gamut.colour(randomMixture(rng));
+        const PrinterGamut::Match m = gamut.closest(target);
+        worst = std::max(worst, m.deltaEab);
+        EXPECT_LT(ciede2000(m.colour, target), 0.05) << k;
+    }
+    std::printf("inside the gamut: the inverse's worst Delta E*ab %.4f\n", worst);
+    // The characterised colours themselves are inside.
+    for (const MaterialFractions& g : PrinterGamut::gridMixtures(4))
+        EXPECT_LT(gamut.closest(gamut.colour(g)).deltaEab, 0.05);
+    // Outside: saturated and extreme colours. No mixture of a dense random
+    // sample is nearer than the match.
+    std::vector<Lab> sample;
+    for (int k = 0; k < 20000; ++k) sample.push_back(gamut.colour(randomMixture(rng)));
+    for (const MaterialFractions& g : PrinterGamut::gridMixtures(12)) sample.push_back(gamut.colour(g));
+    const Lab outside[] = {{50, 80, 60}, {90, -40, 80}, {30, 20, -70}, {98, 0, 0}, {2, 0, 0}, {60, -70, -20}};
+    for (const Lab& t : outside) {
+        const PrinterGamut::Match m = gamut.closest(t);
+        double nearest = 1e30;
+        for (const Lab& s : sample)
+            nearest = std::min(nearest, double(std::hypot(s.L - t.L, std::hypot(s.a - t.a, s.b - t.b))));
+        EXPECT_LE(m.deltaEab, nearest + 0.05) << t.L << " " << t.a << " " << t.b;
+        EXPECT_GT(m.deltaEab, 1.0);  // truly outside
+    }
+}
+
+TEST(PrinterGamut, FileRoundTripAndKey) {
+    const PrinterGamut gamut = gamutOf(2, curvedReflectance);
+    const auto dir = test::freshTempDir("gamut_io");
+    writePrinterGamut(gamut, "0123456789abcdef", "{\"levels\": 2}", dir / "g.json");
+    EXPECT_FALSE(readPrinterGamut(dir / "g.json", "fedcba9876543210"));
+    const auto read = readPrinterGamut(dir / "g.json", "0123456789abcdef");
+    ASSERT_TRUE(read);
+    EXPECT_EQ(read->gridReflectance(), gamut.gridReflectance());
+    EXPECT_FALSE(readPrinterGamut(dir / "none.json", ""));
+    std::ofstream(dir / "bad.json") << "{\"format\": \"something else\"}";
+    EXPECT_THROW(readPrinterGamut(dir / "bad.json", ""), std::exception);
+}
+
+// Small characterisation settings for tests: 0.1 mm voxels on a 3 mm cube.
+CharacterisationSettings smallSettings(int levels) {
+    CharacterisationSettings s;
+    s.levels = levels;
+    s.voxel_mm = {0.1f, 0.1f, 0.1f};
+    s.cube_mm = 3.0f;
+    s.measuredSquare_mm = 1.0f;
+    s.shellDepth_mm = 0.5f;
+    s.spp = 8;
+    return s;
+}
+
+// Each characterised colour against an independent render of the same
+// mixture: the same halftone in a box scene built apart, printpt instead
+// of volpath, another seed, every surface voxel rendered and the face
+// centres averaged. They agree within their combined standard errors.
+TEST(PrinterCharacterisation, AgreesWithIndependentRenders) {
+    const MaterialTable materials = loadMaterials(test::sourceDir() / "data/materials/resins_illustrative.json");
+    const CharacterisationSettings s = smallSettings(1);
+    const PrinterGamut gamut = characterisePrinter(materials, s);
+    const auto mixtures = PrinterGamut::gridMixtures(1);
+    const Vec3i res{30, 30, 30};
+    double chi2 = 0;
+    int values = 0;
+    for (size_t k = 0; k < mixtures.size(); ++k) {
+        std::vector<Label> labels(size_t(res.x) * res.y * res.z, kWhiteLabel);
+        halftoneFrame(
+            res,
+            [&](size_t i, MaterialFractions& f) {
+                const int x = int(i % 30), y = int((i / 30) % 30), z = int(i / 900);
+                const int d = std::min({x, 29 - x, y, 29 - y, z, 29 - z});
+                f = mixtures[k];
+                return d * 0.1f <= s.shellDepth_mm;
+            },
+            [&](size_t i, int m) { labels[i] = kPrintMaterialLabel[m]; });
+        const Scene scene = test::boxScene(
+            res, s.voxel_mm, [&](const Vec3i& v) { return labels[(size_t(v.z) * 30 + v.y) * 30 + v.x]; }, materials,
+            s.ior);
+        const LabelGrid& g = scene.medium->grid();
+        const SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
+        RenderSettings rs;
+        rs.integrator = "printpt";
+        rs.spp = 4;
+        rs.seed = 1234;
+        const RenderResult r = render(scene, sensor, rs);
+        double sum[3] = {0, 0, 0}, var[3] = {0, 0, 0};
+        int n = 0;
+        for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+            const auto& px = sensor.pixels()[p];
+            const float q[3] = {px.surfacePoint_mm.x, px.surfacePoint_mm.y, px.surfacePoint_mm.z};
+            int onFace = 0, central = 0;
+            for (int a = 0; a < 3; ++a) {
+                onFace += q[a] < 0.01f || q[a] > 2.99f;
+                central += std::abs(q[a] - 1.5f) <= 0.5f;
+            }
+            if (onFace != 1 || central != 2) continue;
+            for (int c = 0; c < 3; ++c) {
+                sum[c] += r.film.mean(p, c);
+                var[c] += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+            }
+            ++n;
+        }
+        for (int c = 0; c < 3; ++c) {
+            const double mean = sum[c] / n, se = std::sqrt(var[c]) / n;
+            const double ours = gamut.gridReflectance()[k][size_t(c)], ourSe = gamut.gridStandardError()[k][size_t(c)];
+            const double z = (ours - mean) / std::sqrt(se * se + ourSe * ourSe);
+            std::printf("mixture %zu channel %d: characterised %.4f +- %.4f, independent %.4f +- %.4f (z %.2f)\n", k, c,
+                        ours, ourSe, mean, se, z);
+            EXPECT_LT(std::abs(z), 4.0) << "mixture " << k << " channel " << c;
+            chi2 += z * z;
+            ++values;
+        }
+    }
+    EXPECT_LT(chi2 / values, 2.5);
+}
+
+// Made on first use, kept in the cache, read back the next time; another
+// material table has another key.
+TEST(PrinterCharacterisation, IsCachedByTheMaterialTablesContents) {
+    const auto dir = test::freshTempDir("gamut_cache");
+    const char* old = std::getenv("XDG_CACHE_HOME");
+    const std::string saved = old ? old : "";
+    ::setenv("XDG_CACHE_HOME", (dir / "cache").c_str(), 1);
+    std::filesystem::copy_file(test::sourceDir() / "data/materials/resins_illustrative.json", dir / "m.json");
+    const CharacterisationSettings s = smallSettings(1);
+    std::vector<std::string> said;
+    const PrinterGamut made = printerGamutFor(dir / "m.json", s, [&](const std::string& l) { said.push_back(l); });
+    const PrinterGamut read = printerGamutFor(dir / "m.json", s, [&](const std::string& l) { said.push_back(l); });
+    if (old) ::setenv("XDG_CACHE_HOME", saved.c_str(), 1);
+    else ::unsetenv("XDG_CACHE_HOME");
+    ASSERT_EQ(said.size(), 2u);
+    EXPECT_NE(said[0].find("characterised 5 mixtures"), std::string::npos) << said[0];
+    EXPECT_NE(said[1].find((dir / "cache" / "printlight").string()), std::string::npos) << said[1];
+    EXPECT_EQ(made.gridReflectance(), read.gridReflectance());
+    MaterialTable other = loadMaterials(dir / "m.json");
+    const std::string key = characterisationKey(other, s);
+    other.byLabel[kCyanLabel].albedo[0] = 0.3f;
+    EXPECT_NE(characterisationKey(other, s), key);
+    CharacterisationSettings finer = s;
+    finer.levels = 2;
+    EXPECT_NE(characterisationKey(loadMaterials(dir / "m.json"), finer), key);
+}
+
+}  // namespace
+}  // namespace pl
