@@ -178,14 +178,22 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     result.targetSeen = eye.apply(given_targets);
     result.mappedSeen = eye.apply(mapped);
     const std::vector<Lab> goal = labsOf(updateFiltered(mapped));
+    // The error's wide part (three eye footprints), a tenth of the noise
+    // of the footprint's: what a whole face or region lacks.
+    const CellSurfaceGaussian wide(points_mm, 3 * kEyeFootprint_mm, 0.25f);
+    const std::vector<Lab> goalWide = labsOf(wide.apply(mapped));
 
     // The secant per voxel: the request printed now and the one before, and
     // the prediction of the one before; the gain it measured.
-    std::vector<Lab> previousRequest(n), previousSeen(n);
+    std::vector<Lab> previousRequest(n), previousSeen(n);  // the wide request before, its wide prediction
     std::vector<float> gain(n, 1.0f);
     std::vector<MaterialFractions> bestMixture = mixture;
     double bestScore = 0;
-    float stepShare = 1.0f;
+    // Kesten's rule per voxel: the step shrinks each time the error turns
+    // back (the voxel overshot, or noise dominates its error), so the moves
+    // first follow the error and then average the predictions' noise.
+    std::vector<std::array<float, 3>> previousError(n);
+    std::vector<uint16_t> reversals(n, 0);
     for (int iteration = 0;; ++iteration) {
         const std::vector<RGB> predicted = reflectance(p.radiance, environment);
         // Over the footprint: the prediction, and the same moved by one draw
@@ -212,10 +220,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             result.bestIteration = iteration;
             bestMixture = mixture;
             result.predictedSeen = seen;
-        } else if (iteration > 1) {
-            // Past the first miss each move is halved: near the end the moves
-            // average the predictions' noise instead of following it.
-            stepShare = std::max(0.125f, 0.5f * stepShare);
         }
         // Past the fast predictor's use: its score has stopped falling.
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
@@ -240,21 +244,55 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // then the nearest printable colour and its mixture.
         const std::vector<Lab> now =
             labsOf(settings.updateFootprint_mm == kEyeFootprint_mm ? seen : updateFiltered(predicted));
+        const std::vector<Lab> nowWide = labsOf(wide.apply(predicted));
+        // The requests' wide part, for the secant (a voxel's own request
+        // also moves by its share of the noisy detail, which the wide
+        // prediction does not follow).
+        std::vector<RGB> requestValues(n);
+        for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
+        std::vector<RGB> requestWide = wide.apply(requestValues);
+        // The variance per CIELAB component of the errors' noise, over the
+        // object (one draw of it per voxel, at the eye's footprint).
+        double noiseVariance = 0;
+        if (noisy) {
+            const std::vector<Lab> drawn = labsOf(filtered[1]), clean = labsOf(seen);
+            for (size_t i = 0; i < n; ++i) {
+                const auto d = difference(drawn[i], clean[i]);
+                noiseVariance += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            }
+            noiseVariance /= 3.0 * double(n);
+        }
         tbb::parallel_for(size_t(0), n, [&](size_t i) {
             if (iteration == 0) return;  // the mapped targets' own mixtures first
             if (iteration >= 2) {
-                const auto dR = difference(request[i], previousRequest[i]), dP = difference(now[i], previousSeen[i]);
+                const Lab r{requestWide[i][0], requestWide[i][1], requestWide[i][2]};
+                const auto dR = difference(r, previousRequest[i]), dP = difference(nowWide[i], previousSeen[i]);
                 const double moved = dR[0] * dR[0] + dR[1] * dR[1] + dR[2] * dR[2];
-                // Only moves well above the prediction's noise measure a gain.
+                // Only moves well above the prediction's noise measure a gain
+                // (the wide prediction's: the request's move is mostly the
+                // wide error's).
                 if (moved > 4.0) {
                     const double g = (dP[0] * dR[0] + dP[1] * dR[1] + dP[2] * dR[2]) / moved;
-                    gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * g, 0.4, 2.5));
+                    gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * g, 0.5, 2.5));
                 }
             }
-            previousRequest[i] = request[i];
-            previousSeen[i] = now[i];
-            const double a = settings.step * stepShare / gain[i];
-            const auto err = difference(goal[i], now[i]);
+            previousRequest[i] = {requestWide[i][0], requestWide[i][1], requestWide[i][2]};
+            previousSeen[i] = nowWide[i];
+            // The error: its wide part, plus the footprint's detail shrunk by
+            // James-Stein's positive-part rule against the predictions'
+            // noise (detail the size of the noise barely moves).
+            const auto errWide = difference(goalWide[i], nowWide[i]), errEye = difference(goal[i], now[i]);
+            double detailSq = 0;
+            for (int c = 0; c < 3; ++c) detailSq += (errEye[c] - errWide[c]) * (errEye[c] - errWide[c]);
+            const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - noiseVariance / detailSq) : 0.0;
+            std::array<double, 3> err;
+            for (int c = 0; c < 3; ++c) err[c] = errWide[c] + shrink * (errEye[c] - errWide[c]);
+            // Kesten's rule on the wide part (its noise is small).
+            if (iteration >= 2 && errWide[0] * previousError[i][0] + errWide[1] * previousError[i][1] +
+                                          errWide[2] * previousError[i][2] < 0)
+                ++reversals[i];
+            previousError[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
+            const double a = settings.step / (gain[i] * (1 + reversals[i]));
             const Lab wanted{float(request[i].L + a * err[0]), float(request[i].a + a * err[1]),
                              float(request[i].b + a * err[2])};
             const PrinterGamut::Match m = gamut.closest(wanted, mixture[i]);

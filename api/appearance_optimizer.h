@@ -16,9 +16,12 @@
 //    prediction, the error (mapped target - prediction, both averaged over
 //    the eye's footprint, in CIELAB) moves each request by `step` times the
 //    error over the request's measured gain (a secant estimate per voxel:
-//    how far the prediction moved for the last move of the request), and
-//    the request goes back to the nearest printable colour (no clamping,
-//    no wind-up outside the gamut).
+//    how far the prediction moved for the last move of the request) and
+//    over 1 + the times its error turned back (Kesten's rule: the moves
+//    follow the error while it keeps its direction, then average the
+//    predictions' noise), the error first shrunk by James-Stein's rule
+//    against the predictions' noise; the request then goes back to the
+//    nearest printable colour (no clamping, no wind-up outside the gamut).
 //  - Scores: mean and 95th percentile of CIEDE2000 between prediction and
 //    mapped target over the eye's footprint (compare/surface_colour_error.h),
 //    and per voxel. The loop stops after maxIterations, at its time budget,

@@ -89,6 +89,67 @@ std::vector<std::vector<RGB>> SurfaceGaussian::apply(const std::vector<const std
     return out;
 }
 
+CellSurfaceGaussian::CellSurfaceGaussian(const std::vector<Point3f>& points_mm, float sigma_mm, float cell_mm)
+    : points_mm_(points_mm), cellOfPoint_(points_mm.size()), sigma_mm_(sigma_mm) {
+    auto cellOf = [&](const Point3f& p) {
+        return Vec3i{int(std::floor(p.x / cell_mm)), int(std::floor(p.y / cell_mm)), int(std::floor(p.z / cell_mm))};
+    };
+    absl::flat_hash_map<uint64_t, uint32_t> cellAt;
+    std::vector<Vec3i> coords;
+    std::vector<std::array<double, 3>> sums;
+    for (size_t i = 0; i < points_mm.size(); ++i) {
+        const Vec3i c = cellOf(points_mm[i]);
+        auto [it, fresh] = cellAt.try_emplace(cellKey(c), uint32_t(coords.size()));
+        if (fresh) {
+            coords.push_back(c);
+            sums.push_back({0, 0, 0});
+            pointCount_.push_back(0);
+        }
+        cellOfPoint_[i] = it->second;
+        sums[it->second][0] += points_mm[i].x, sums[it->second][1] += points_mm[i].y, sums[it->second][2] += points_mm[i].z;
+        ++pointCount_[it->second];
+    }
+    for (size_t c = 0; c < coords.size(); ++c)
+        centroid_mm_.push_back({float(sums[c][0] / pointCount_[c]), float(sums[c][1] / pointCount_[c]),
+                                float(sums[c][2] / pointCount_[c])});
+    const int reach = int(std::ceil(3.0f * sigma_mm / cell_mm)) + 1;
+    nearCells_.resize(coords.size());
+    parallelForTiles(coords.size(), 16, [&](size_t begin, size_t end) {
+        for (size_t c = begin; c < end; ++c)
+            for (int dz = -reach; dz <= reach; ++dz)
+                for (int dy = -reach; dy <= reach; ++dy)
+                    for (int dx = -reach; dx <= reach; ++dx) {
+                        if (dx * dx + dy * dy + dz * dz > reach * reach) continue;
+                        const Vec3i& at = coords[c];
+                        auto found = cellAt.find(cellKey({at.x + dx, at.y + dy, at.z + dz}));
+                        if (found != cellAt.end()) nearCells_[c].push_back(found->second);
+                    }
+    });
+}
+
+std::vector<RGB> CellSurfaceGaussian::apply(const std::vector<RGB>& values) const {
+    std::vector<std::array<double, 3>> cellSum(centroid_mm_.size(), {0, 0, 0});
+    for (size_t i = 0; i < values.size(); ++i)
+        for (int ch = 0; ch < 3; ++ch) cellSum[cellOfPoint_[i]][size_t(ch)] += values[i][size_t(ch)];
+    std::vector<RGB> out(values.size());
+    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
+    parallelForTiles(values.size(), 256, [&](size_t begin, size_t end) {
+        for (size_t i = begin; i < end; ++i) {
+            double sum[3] = {0, 0, 0}, weights = 0;
+            for (uint32_t c : nearCells_[cellOfPoint_[i]]) {
+                const Vec3f d = centroid_mm_[c] - points_mm_[i];
+                const float dSq = dot(d, d);
+                if (dSq > reachSq) continue;
+                const double w = std::exp(-dSq * inverseTwoSigmaSq);  // per point of the cell
+                weights += w * pointCount_[c];
+                for (int ch = 0; ch < 3; ++ch) sum[ch] += w * cellSum[c][size_t(ch)];
+            }
+            for (int ch = 0; ch < 3; ++ch) out[i][size_t(ch)] = float(sum[ch] / weights);
+        }
+    });
+    return out;
+}
+
 std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
                                    float sigma_mm) {
     if (!(sigma_mm > 0)) return values;

@@ -38,6 +38,25 @@ private:
     std::vector<Cell> cells_;
 };
 
+// A wide Gaussian over surface points, for scales several times the eye's
+// footprint where SurfaceGaussian's every pair of points would cost too
+// much: the points' values are averaged per cell of cell_mm, and each
+// point takes the cells' means weighted by their point counts and a
+// Gaussian of the distance to the cells' centroids (within 3 sigma).
+class CellSurfaceGaussian {
+public:
+    CellSurfaceGaussian(const std::vector<Point3f>& points_mm, float sigma_mm, float cell_mm);
+    std::vector<RGB> apply(const std::vector<RGB>& values) const;
+
+private:
+    std::vector<Point3f> points_mm_;
+    std::vector<uint32_t> cellOfPoint_;
+    std::vector<Point3f> centroid_mm_;
+    std::vector<uint32_t> pointCount_;
+    std::vector<std::vector<uint32_t>> nearCells_;  // per cell: the cells within 3 sigma plus a cell's diagonal
+    float sigma_mm_;
+};
+
 // One-off: SurfaceGaussian(points_mm, sigma_mm).apply(values); sigma 0
 // returns the values.
 std::vector<RGB> gaussianOnSurface(const std::vector<Point3f>& points_mm, const std::vector<RGB>& values,
