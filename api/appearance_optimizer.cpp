@@ -203,6 +203,22 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             noisy ? movedByNoise(predicted, reflectance(p.standardError, environment), 1) : predicted;
         std::vector<std::vector<RGB>> filtered = eye.apply(std::vector<const std::vector<RGB>*>{&predicted, &moved});
         const std::vector<RGB> seen = std::move(filtered[0]);
+        const std::vector<Lab> nowWide = labsOf(wide.apply(predicted));
+        // The variance per CIELAB component of the noise of the errors, over
+        // the object: at the eye's footprint and at the wide scale (one draw
+        // of it per voxel).
+        double noiseVariance = 0, noiseVarianceWide = 0;
+        if (noisy) {
+            const std::vector<Lab> drawn = labsOf(filtered[1]), clean = labsOf(seen);
+            const std::vector<Lab> drawnWide = labsOf(wide.apply(moved));
+            for (size_t i = 0; i < n; ++i) {
+                const auto d = difference(drawn[i], clean[i]), w = difference(drawnWide[i], nowWide[i]);
+                noiseVariance += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+                noiseVarianceWide += w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+            }
+            noiseVariance /= 3.0 * double(n);
+            noiseVarianceWide /= 3.0 * double(n);
+        }
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
@@ -212,11 +228,14 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         it.meanDeltaEPerVoxel = raw.mean;
         it.p95DeltaEPerVoxel = raw.p95;
         if (noisy) it.noiseDeltaE = deltaEStats(filtered[1], seen).mean;
-        // A new best only if it beats the last by a margin: the score's own
-        // noise is far smaller than noiseDeltaE (a mean over every voxel),
-        // but shifts with the labels.
-        if (iteration == 0 || it.meanDeltaE < bestScore - std::max(0.02 * bestScore, 0.02)) {
-            bestScore = it.meanDeltaE;
+        double wideSum = 0;
+        for (size_t i = 0; i < n; ++i) wideSum += ciede2000(nowWide[i], goalWide[i]);
+        it.meanDeltaEWide = wideSum / double(n);
+        // A new best only if it beats the last by a margin, on the wide
+        // score: at the footprint the predictions' noise dominates the score
+        // and hides what the loop still changes.
+        if (iteration == 0 || it.meanDeltaEWide < bestScore - std::max(0.02 * bestScore, 0.02)) {
+            bestScore = it.meanDeltaEWide;
             result.bestIteration = iteration;
             bestMixture = mixture;
             result.predictedSeen = seen;
@@ -244,24 +263,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // then the nearest printable colour and its mixture.
         const std::vector<Lab> now =
             labsOf(settings.updateFootprint_mm == kEyeFootprint_mm ? seen : updateFiltered(predicted));
-        const std::vector<Lab> nowWide = labsOf(wide.apply(predicted));
         // The requests' wide part, for the secant (a voxel's own request
         // also moves by its share of the noisy detail, which the wide
         // prediction does not follow).
         std::vector<RGB> requestValues(n);
         for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
         std::vector<RGB> requestWide = wide.apply(requestValues);
-        // The variance per CIELAB component of the errors' noise, over the
-        // object (one draw of it per voxel, at the eye's footprint).
-        double noiseVariance = 0;
-        if (noisy) {
-            const std::vector<Lab> drawn = labsOf(filtered[1]), clean = labsOf(seen);
-            for (size_t i = 0; i < n; ++i) {
-                const auto d = difference(drawn[i], clean[i]);
-                noiseVariance += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            }
-            noiseVariance /= 3.0 * double(n);
-        }
         tbb::parallel_for(size_t(0), n, [&](size_t i) {
             if (iteration == 0) return;  // the mapped targets' own mixtures first
             if (iteration >= 2) {
@@ -287,9 +294,14 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - noiseVariance / detailSq) : 0.0;
             std::array<double, 3> err;
             for (int c = 0; c < 3; ++c) err[c] = errWide[c] + shrink * (errEye[c] - errWide[c]);
-            // Kesten's rule on the wide part (its noise is small).
-            if (iteration >= 2 && errWide[0] * previousError[i][0] + errWide[1] * previousError[i][1] +
-                                          errWide[2] * previousError[i][2] < 0)
+            // Kesten's rule on the wide part, counting only turns between
+            // errors above its noise.
+            const double wideSq = errWide[0] * errWide[0] + errWide[1] * errWide[1] + errWide[2] * errWide[2];
+            const double previousSq = double(previousError[i][0]) * previousError[i][0] +
+                                      double(previousError[i][1]) * previousError[i][1] +
+                                      double(previousError[i][2]) * previousError[i][2];
+            if (iteration >= 2 && wideSq > 3 * noiseVarianceWide && previousSq > 3 * noiseVarianceWide &&
+                errWide[0] * previousError[i][0] + errWide[1] * previousError[i][1] + errWide[2] * previousError[i][2] < 0)
                 ++reversals[i];
             previousError[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
             const double a = settings.step / (gain[i] * (1 + reversals[i]));

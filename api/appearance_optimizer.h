@@ -24,9 +24,11 @@
 //    nearest printable colour (no clamping, no wind-up outside the gamut).
 //  - Scores: mean and 95th percentile of CIEDE2000 between prediction and
 //    mapped target over the eye's footprint (compare/surface_colour_error.h),
-//    and per voxel. The loop stops after maxIterations, at its time budget,
-//    or when its score has not fallen below its best by more than its own
-//    noise for `patience` iterations; it ends on its best labels.
+//    per voxel, and over three footprints (the wide score, whose noise is
+//    small enough to show what the loop still changes). The loop stops
+//    after maxIterations, at its time budget, or when its wide score has not
+//    fallen 2 % below its best for `patience` iterations; it ends on the
+//    labels of its best wide score.
 #pragma once
 
 #include <functional>
@@ -71,6 +73,9 @@ struct OptimizeIteration {
     double meanDeltaE = 0;    // CIEDE2000 over the eye's footprint, prediction against mapped target
     double p95DeltaE = 0;
     double noiseDeltaE = 0;   // what the prediction's own noise adds to meanDeltaE
+    // Over three footprints (its noise a tenth): what decides the best
+    // iteration and when the loop stops.
+    double meanDeltaEWide = 0;
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;       // prediction plus update
     size_t changedVoxels = 0;

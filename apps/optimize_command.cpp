@@ -187,15 +187,15 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000\n";
+        "noise_de2000,mean_de2000_wide\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
         char line[192];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f\n", it.iteration, it.meanDeltaE,
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f\n", it.iteration, it.meanDeltaE,
                       it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels,
-                      it.predictor.c_str(), it.noiseDeltaE);
+                      it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
@@ -211,10 +211,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm, os.gamutMap ? "" : " (not applied: --no-gamut-map)");
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
-    std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; noise %.2f), "
-                "95th percentile %.3f -> %.3f; stopped at %s; %.1f s\n",
+    std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "
+                "95th percentile %.3f -> %.3f; over three footprints %.3f -> %.3f; stopped at %s; %.1f s\n",
                 its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
-                its.front().p95DeltaE, best.p95DeltaE, result.stoppedBecause.c_str(), loopSeconds);
+                its.front().p95DeltaE, best.p95DeltaE, its.front().meanDeltaEWide, best.meanDeltaEWide,
+                result.stoppedBecause.c_str(), loopSeconds);
     if (its.front().predictor != its.back().predictor)
         std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
                     "like with like)\n",
