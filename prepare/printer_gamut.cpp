@@ -140,7 +140,7 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target) const {
     return best;
 }
 
-PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFractions& start) const {
+PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFractions& start, int maxSteps) const {
     // Projected Levenberg-Marquardt on the simplex. Moves trade each
     // material against the most abundant one (which always has room).
     MaterialFractions m = projectOntoSimplex(start);
@@ -150,7 +150,7 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFract
     constexpr double h = 1e-3;
     // Until within 0.01 Delta E*ab, or a step shortens the squared distance
     // by under 0.01 % (outside the gamut: on its surface).
-    for (int iteration = 0; iteration < 60 && cost > 1e-4; ++iteration) {
+    for (int iteration = 0; iteration < maxSteps && cost > 1e-4; ++iteration) {
         const int pivot = int(std::max_element(m.begin(), m.end()) - m.begin());
         int free[4], k = 0;
         for (int i = 0; i < kPrintMaterials; ++i)

@@ -50,10 +50,10 @@ public:
         double deltaEab = 0;  // from the colour asked for
     };
     // The mixture whose colour is nearest `target`; from `start` (a
-    // previous match, for a target that moved a little) or else from the
-    // nearest of the dense table.
+    // previous match, for a target that moved a little: at most maxSteps
+    // descent steps) or else from the nearest of the dense table.
     Match closest(const Lab& target) const;
-    Match closest(const Lab& target, const MaterialFractions& start) const;
+    Match closest(const Lab& target, const MaterialFractions& start, int maxSteps = 60) const;
 
 private:
     int levels_;
