@@ -22,6 +22,7 @@ namespace {
 struct DenseIndex {
     Vec3i res;
     size_t operator()(const Vec3i& v) const { return (size_t(v.z) * res.y + v.y) * res.x + v.x; }
+    Vec3i voxel(size_t i) const { return {int(i % res.x), int((i / res.x) % res.y), int(i / (size_t(res.x) * res.y))}; }
     bool contains(const Vec3i& v) const {
         return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < res.x && v.y < res.y && v.z < res.z;
     }
@@ -63,10 +64,10 @@ std::vector<int32_t> shellOwners(const std::vector<Label>& labels, Label voidLab
 std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, const GridFrame& frame,
                                              const std::vector<int32_t>& owner,
                                              const std::vector<MaterialFractions>& mixtures) {
-    const Vec3i& r = frame.resolution;
+    const DenseIndex at{frame.resolution};
     std::vector<LabelGrid::Change> changes;
     halftoneFrame(
-        r,
+        frame.resolution,
         [&](size_t i, MaterialFractions& f) {
             if (owner[i] < 0) return false;
             f = mixtures[size_t(owner[i])];
@@ -74,10 +75,7 @@ std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, c
         },
         [&](size_t i, int material) {
             const Label l = kPrintMaterialLabel[material];
-            if (l != labels[i])
-                changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
-                                    frame.indexMin.z + int(i / (size_t(r.x) * r.y))},
-                                   l});
+            if (l != labels[i]) changes.push_back({frame.indexMin + at.voxel(i), l});
         });
     return changes;
 }
@@ -96,7 +94,9 @@ std::vector<Lab> labsOf(const std::vector<RGB>& colours) {
     return out;
 }
 
-std::array<double, 3> difference(const Lab& x, const Lab& y) { return {x.L - y.L, x.a - y.a, x.b - y.b}; }
+using LabVector = std::array<double, 3>;
+LabVector difference(const Lab& x, const Lab& y) { return {x.L - y.L, x.a - y.a, x.b - y.b}; }
+double dot(const LabVector& x, const LabVector& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
 
 // The gamut's match for every colour, each distinct colour searched once
 // (a uniform target is one search).
@@ -203,18 +203,17 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             noisy ? movedByNoise(predicted, reflectance(p.standardError, environment), 1) : predicted;
         std::vector<std::vector<RGB>> filtered = eye.apply(std::vector<const std::vector<RGB>*>{&predicted, &moved});
         const std::vector<RGB> seen = std::move(filtered[0]);
-        const std::vector<Lab> nowWide = labsOf(wide.apply(predicted));
+        const std::vector<Lab> seenLab = labsOf(seen), nowWide = labsOf(wide.apply(predicted));
         // The variance per CIELAB component of the noise of the errors, over
         // the object: at the eye's footprint and at the wide scale (one draw
         // of it per voxel).
         double noiseVariance = 0, noiseVarianceWide = 0;
         if (noisy) {
-            const std::vector<Lab> drawn = labsOf(filtered[1]), clean = labsOf(seen);
-            const std::vector<Lab> drawnWide = labsOf(wide.apply(moved));
+            const std::vector<Lab> drawn = labsOf(filtered[1]), drawnWide = labsOf(wide.apply(moved));
             for (size_t i = 0; i < n; ++i) {
-                const auto d = difference(drawn[i], clean[i]), w = difference(drawnWide[i], nowWide[i]);
-                noiseVariance += d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-                noiseVarianceWide += w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+                const LabVector d = difference(drawn[i], seenLab[i]), w = difference(drawnWide[i], nowWide[i]);
+                noiseVariance += dot(d, d);
+                noiseVarianceWide += dot(w, w);
             }
             noiseVariance /= 3.0 * double(n);
             noiseVarianceWide /= 3.0 * double(n);
@@ -259,61 +258,56 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             if (onIteration) onIteration(it);
             break;
         }
-        // Move the requests: the error the eye sees, over each voxel's gain;
-        // then the nearest printable colour and its mixture.
-        const std::vector<Lab> now =
-            labsOf(settings.updateFootprint_mm == kEyeFootprint_mm ? seen : updateFiltered(predicted));
-        // The requests' wide part, for the secant (a voxel's own request
-        // also moves by its share of the noisy detail, which the wide
-        // prediction does not follow).
-        std::vector<RGB> requestValues(n);
-        for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
-        std::vector<RGB> requestWide = wide.apply(requestValues);
-        tbb::parallel_for(size_t(0), n, [&](size_t i) {
-            if (iteration == 0) return;  // the mapped targets' own mixtures first
-            if (iteration >= 2) {
+        // Move the requests (the mapped targets' own mixtures are printed
+        // first): the error the eye sees, over each voxel's gain; then the
+        // nearest printable colour and its mixture.
+        if (iteration > 0) {
+            const std::vector<Lab> now =
+                settings.updateFootprint_mm == kEyeFootprint_mm ? seenLab : labsOf(updateFiltered(predicted));
+            // The requests' wide part, for the secant (a voxel's own request
+            // also moves by its share of the noisy detail, which the wide
+            // prediction does not follow).
+            std::vector<RGB> requestValues(n);
+            for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
+            const std::vector<RGB> requestWide = wide.apply(requestValues);
+            tbb::parallel_for(size_t(0), n, [&](size_t i) {
                 const Lab r{requestWide[i][0], requestWide[i][1], requestWide[i][2]};
-                const auto dR = difference(r, previousRequest[i]), dP = difference(nowWide[i], previousSeen[i]);
-                const double moved = dR[0] * dR[0] + dR[1] * dR[1] + dR[2] * dR[2];
-                // Only moves well above the prediction's noise measure a gain
-                // (the wide prediction's: the request's move is mostly the
-                // wide error's).
-                if (moved > 4.0) {
-                    const double g = (dP[0] * dR[0] + dP[1] * dR[1] + dP[2] * dR[2]) / moved;
-                    gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * g, 0.5, 2.5));
+                if (iteration >= 2) {
+                    const LabVector dR = difference(r, previousRequest[i]), dP = difference(nowWide[i], previousSeen[i]);
+                    // Only moves well above the prediction's noise measure a
+                    // gain (the wide prediction's: the request's move is
+                    // mostly the wide error's).
+                    if (dot(dR, dR) > 4.0)
+                        gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * (dot(dP, dR) / dot(dR, dR)), 0.5, 2.5));
                 }
-            }
-            previousRequest[i] = {requestWide[i][0], requestWide[i][1], requestWide[i][2]};
-            previousSeen[i] = nowWide[i];
-            // The error: its wide part, plus the footprint's detail shrunk by
-            // James-Stein's positive-part rule against the predictions'
-            // noise (detail the size of the noise barely moves).
-            const auto errWide = difference(goalWide[i], nowWide[i]), errEye = difference(goal[i], now[i]);
-            double detailSq = 0;
-            for (int c = 0; c < 3; ++c) detailSq += (errEye[c] - errWide[c]) * (errEye[c] - errWide[c]);
-            const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - noiseVariance / detailSq) : 0.0;
-            std::array<double, 3> err;
-            for (int c = 0; c < 3; ++c) err[c] = errWide[c] + shrink * (errEye[c] - errWide[c]);
-            // Kesten's rule on the wide part, counting only turns between
-            // errors above its noise.
-            const double wideSq = errWide[0] * errWide[0] + errWide[1] * errWide[1] + errWide[2] * errWide[2];
-            const double previousSq = double(previousError[i][0]) * previousError[i][0] +
-                                      double(previousError[i][1]) * previousError[i][1] +
-                                      double(previousError[i][2]) * previousError[i][2];
-            if (iteration >= 2 && wideSq > 3 * noiseVarianceWide && previousSq > 3 * noiseVarianceWide &&
-                errWide[0] * previousError[i][0] + errWide[1] * previousError[i][1] + errWide[2] * previousError[i][2] < 0)
-                ++reversals[i];
-            previousError[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
-            const double a = settings.step / (gain[i] * (1 + reversals[i]));
-            const Lab wanted{float(request[i].L + a * err[0]), float(request[i].a + a * err[1]),
-                             float(request[i].b + a * err[2])};
-            // A few steps from the last mixture: the request moved little,
-            // and the next iteration goes on from here (outside the gamut
-            // the full descent costs ~100 us a voxel).
-            const PrinterGamut::Match m = gamut.closest(wanted, mixture[i], 12);
-            mixture[i] = m.mixture;
-            request[i] = m.colour;
-        });
+                previousRequest[i] = r;
+                previousSeen[i] = nowWide[i];
+                // The error: its wide part, plus the footprint's detail shrunk
+                // by James-Stein's positive-part rule against the predictions'
+                // noise (detail the size of the noise barely moves).
+                const LabVector errWide = difference(goalWide[i], nowWide[i]), errEye = difference(goal[i], now[i]);
+                const LabVector detail{errEye[0] - errWide[0], errEye[1] - errWide[1], errEye[2] - errWide[2]};
+                const double detailSq = dot(detail, detail);
+                const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - noiseVariance / detailSq) : 0.0;
+                // Kesten's rule on the wide part, counting only turns between
+                // errors above its noise.
+                const LabVector before{previousError[i][0], previousError[i][1], previousError[i][2]};
+                if (iteration >= 2 && dot(errWide, errWide) > 3 * noiseVarianceWide &&
+                    dot(before, before) > 3 * noiseVarianceWide && dot(errWide, before) < 0)
+                    ++reversals[i];
+                previousError[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
+                const double a = settings.step / (gain[i] * (1 + reversals[i]));
+                const Lab wanted{float(request[i].L + a * (errWide[0] + shrink * detail[0])),
+                                 float(request[i].a + a * (errWide[1] + shrink * detail[1])),
+                                 float(request[i].b + a * (errWide[2] + shrink * detail[2]))};
+                // A few steps from the last mixture: the request moved little,
+                // and the next iteration goes on from here (outside the gamut
+                // the full descent costs ~100 us a voxel).
+                const PrinterGamut::Match m = gamut.closest(wanted, mixture[i], 12);
+                mixture[i] = m.mixture;
+                request[i] = m.colour;
+            });
+        }
         std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixture);
         for (const auto& c : changes) labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)] = c.label;
         predictor.changeLabels(changes);
@@ -335,12 +329,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     if (result.bestIteration != result.iterations.back().iteration) {
         std::vector<LabelGrid::Change> changes;
         if (result.bestIteration == 0) {
-            const Vec3i& r = frame.resolution;
+            const DenseIndex at{frame.resolution};
             for (size_t i = 0; i < labels.size(); ++i)
-                if (labels[i] != given[i])
-                    changes.push_back({{frame.indexMin.x + int(i % r.x), frame.indexMin.y + int((i / r.x) % r.y),
-                                        frame.indexMin.z + int(i / (size_t(r.x) * r.y))},
-                                       given[i]});
+                if (labels[i] != given[i]) changes.push_back({frame.indexMin + at.voxel(i), given[i]});
         } else {
             changes = halftoneShell(labels, frame, owner, bestMixture);
         }

@@ -59,7 +59,7 @@ std::string characterisationKey(const MaterialTable& materials, const Characteri
 }
 
 PrinterGamut characterisePrinter(const MaterialTable& materials, const CharacterisationSettings& settings,
-                                 const std::function<void(size_t, size_t)>& progress) {
+                                 bool showProgress) {
     for (Label l : kPrintMaterialLabel)
         if (!materials.byLabel[l].defined)
             throw std::invalid_argument(std::string("characterising the printer needs a material for label ") +
@@ -109,6 +109,7 @@ PrinterGamut characterisePrinter(const MaterialTable& materials, const Character
 
     const std::vector<MaterialFractions> mixtures = PrinterGamut::gridMixtures(settings.levels);
     std::vector<RGB> reflectance(mixtures.size()), standardError(mixtures.size());
+    ProgressBar bar(mixtures.size(), "characterising the printer", showProgress && ProgressBar::stderrIsTerminal());
     std::unique_ptr<SurfaceVoxelSensor> sensor;
     PixelShare measured;
     for (size_t k = 0; k < mixtures.size(); ++k) {
@@ -146,8 +147,9 @@ PrinterGamut characterisePrinter(const MaterialTable& materials, const Character
             reflectance[k][size_t(c)] = float(sum[c] / n);
             standardError[k][size_t(c)] = float(std::sqrt(var[c]) / n);
         }
-        if (progress) progress(k + 1, mixtures.size());
+        bar.advance(1);
     }
+    bar.finish();
     return PrinterGamut(settings.levels, std::move(reflectance), std::move(standardError));
 }
 
@@ -176,14 +178,7 @@ PrinterGamut printerGamutFor(const std::filesystem::path& materialsFile, const C
             if (said) said("the printer's gamut: " + cached.string());
             return std::move(*g);
         }
-    const size_t total = PrinterGamut::gridMixtures(settings.levels).size();
-    ProgressBar bar(total, "characterising the printer", ProgressBar::stderrIsTerminal());
-    size_t shown = 0;
-    PrinterGamut gamut = characterisePrinter(materials, settings, [&](size_t done, size_t) {
-        bar.advance(done - shown);
-        shown = done;
-    });
-    bar.finish();
+    PrinterGamut gamut = characterisePrinter(materials, settings, true);
     std::string where = "not kept (no cache folder)";
     if (!cached.empty()) {
         std::error_code ec;
@@ -195,7 +190,7 @@ PrinterGamut printerGamutFor(const std::filesystem::path& materialsFile, const C
             where = std::string("not kept: ") + e.what();
         }
     }
-    if (said) said("the printer's gamut: characterised " + std::to_string(total) + " mixtures of " +
+    if (said) said("the printer's gamut: characterised " + std::to_string(gamut.gridReflectance().size()) + " mixtures of " +
                    materialsFile.string() + ", " + where);
     return gamut;
 }

@@ -35,9 +35,10 @@ struct CharacterisationSettings {
 // settings (and a format version), as 16 hexadecimal digits.
 std::string characterisationKey(const MaterialTable& materials, const CharacterisationSettings& settings);
 
-// Renders every grid mixture; progress(done, total) after each.
+// Renders every grid mixture; with showProgress, a progress bar on stderr
+// (when it is a terminal).
 PrinterGamut characterisePrinter(const MaterialTable& materials, const CharacterisationSettings& settings,
-                                 const std::function<void(size_t, size_t)>& progress = {});
+                                 bool showProgress = false);
 
 // Writes the characterisation with its key (io/printer_gamut_io.h).
 void writeCharacterisation(const PrinterGamut& gamut, const MaterialTable& materials,

@@ -47,14 +47,7 @@ int characteriseCommand(const std::vector<std::string>& argv) {
     refuseToOverwriteInputs(out, {materialsFile});
     const MaterialTable materials = loadMaterials(materialsFile);
     const auto t0 = std::chrono::steady_clock::now();
-    const size_t total = PrinterGamut::gridMixtures(s.levels).size();
-    ProgressBar bar(total, "characterising the printer", ProgressBar::stderrIsTerminal());
-    size_t shown = 0;
-    const PrinterGamut gamut = characterisePrinter(materials, s, [&](size_t done, size_t) {
-        bar.advance(done - shown);
-        shown = done;
-    });
-    bar.finish();
+    const PrinterGamut gamut = characterisePrinter(materials, s, true);
     writeCharacterisation(gamut, materials, s, out);
     double worst = 0;
     for (const RGB& e : gamut.gridStandardError())
@@ -62,7 +55,7 @@ int characteriseCommand(const std::vector<std::string>& argv) {
     const Lab white = gamut.colour({0, 0, 0, 0, 1}), black = gamut.colour({0, 0, 0, 1, 0});
     std::printf("characterised %zu mixtures in %.1f s (largest standard error %.4f); white L* %.1f, black L* %.1f\n"
                 "wrote %s\n",
-                total, secondsSince(t0), worst, white.L, black.L, out.string().c_str());
+                gamut.gridReflectance().size(), secondsSince(t0), worst, white.L, black.L, out.string().c_str());
     return 0;
 }
 
