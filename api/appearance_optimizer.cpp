@@ -1,6 +1,7 @@
 #include "api/appearance_optimizer.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -118,6 +119,61 @@ std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std:
         out[order[k]] = found[d];
     }
     return out;
+}
+
+// The judge: the printed labels rendered apart from the loop in two
+// independent halves, in rounds (seeds judgeSeed + 0, 1, 2, ...) until the
+// noise over the footprint is under the wanted level; each round asks for
+// the samples that the noise's fall as the root of the samples says are
+// missing, a fifth more.
+OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& settings, const std::string& integrator,
+                             const SurfaceGaussian& eye, const std::vector<RGB>& mapped, const RGB& environment) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool fixed = settings.judgeSpp > 0;
+    const uint32_t mostPerHalf = std::max(1u, (fixed ? settings.judgeSpp : settings.judgeMostSpp) / 2);
+    predictor.settings().integrator = integrator;
+    std::array<std::vector<RGB>, 2> sum;  // radiance times samples, per half
+    uint32_t perHalf = 0, next = fixed ? mostPerHalf : std::min(4u, mostPerHalf);
+    OptimizeJudgement j;
+    j.integrator = integrator;
+    j.seed = settings.judgeSeed;
+    for (;;) {
+        for (int half = 0; half < 2; ++half) {
+            predictor.settings().spp = next;
+            predictor.settings().seed = settings.judgeSeed + uint64_t(2 * j.rounds + half);
+            const SurfacePrediction p = predictor.predict();
+            sum[half].resize(p.radiance.size(), RGB{0, 0, 0});
+            for (size_t i = 0; i < p.radiance.size(); ++i)
+                for (int c = 0; c < 3; ++c) sum[half][i][c] += float(next) * p.radiance[i][c];
+        }
+        perHalf += next;
+        ++j.rounds;
+        std::array<std::vector<RGB>, 2> halves;
+        for (int half = 0; half < 2; ++half) {
+            halves[half] = reflectance(sum[half], environment);
+            for (RGB& x : halves[half])
+                for (float& v : x) v /= float(perHalf);
+        }
+        const SplitRenderError e = splitRenderError(eye, halves[0], halves[1], mapped);
+        const double noise = e.noise.meanFiltered;
+        if (fixed || noise <= settings.judgeNoiseDeltaE || perHalf >= mostPerHalf) {
+            j.spp = 2 * perHalf;
+            j.meanDeltaE = e.error.mean;
+            j.p95DeltaE = e.error.p95;
+            j.meanDeltaEFiltered = e.error.meanFiltered;
+            j.p95DeltaEFiltered = e.error.p95Filtered;
+            j.noiseDeltaE = e.noise.mean;
+            j.noiseDeltaEFiltered = noise;
+            j.rmsDeltaEFilteredNoiseRemoved = e.rmsFilteredNoiseRemoved;
+            j.judgedSeen = e.meanSeen;
+            j.deltaESeen = e.deltaESeen;
+            j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            return j;
+        }
+        const double wanted = std::ceil(1.2 * perHalf * std::pow(noise / settings.judgeNoiseDeltaE, 2));
+        next = uint32_t(std::min<double>(wanted, mostPerHalf)) - perHalf;
+        next = std::max(next, 1u);
+    }
 }
 
 }  // namespace
@@ -337,23 +393,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         }
         predictor.changeLabels(changes);
     }
-    if (settings.judgeSpp > 0) {
-        // The judge: what gets printed, rendered apart from the loop, against
-        // the same mapped targets.
+    if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        predictor.settings().integrator = judge;
-        predictor.settings().spp = settings.judgeSpp;
-        predictor.settings().seed = settings.judgeSeed;
-        const auto j0 = Clock::now();
-        const SurfacePrediction judged = predictor.predict();
-        const std::vector<RGB> judgedColours = reflectance(judged.radiance, environment);
-        const SurfaceColourError e = surfaceColourError(eye, judgedColours, mapped);
-        const SurfaceColourError noise =
-            noiseColourError(eye, judgedColours, reflectance(judged.standardError, environment));
-        result.judgement = OptimizeJudgement{judge, settings.judgeSpp, settings.judgeSeed, e.mean,
-                                             e.p95, e.meanFiltered, e.p95Filtered, noise.mean, noise.meanFiltered,
-                                             judged.voxelsShareSamples,
-                                             std::chrono::duration<double>(Clock::now() - j0).count()};
+        result.judgement = judgePrint(predictor, settings, judge, eye, mapped, environment);
     }
     return result;
 }

@@ -59,12 +59,18 @@ struct OptimizeSettings {
     // predictor's settings (Monte Carlo). Empty: none.
     std::string fastPredictor;
     double switchBelowDeltaE = 0.25;
-    // The judge: the final labels rendered independently (this integrator,
-    // empty: the predictor's settings'; spp and seed) and scored against
-    // the mapped targets, per voxel and over the eye's footprint. 0 spp:
-    // none. The predictor must have loaded what the judge needs.
+    // The judge: the final labels rendered apart (this integrator, empty:
+    // the predictor's settings') in two independent halves, scored against
+    // the mapped targets per voxel and over the eye's footprint, its noise
+    // measured by the halves' disagreement (compare/surface_colour_error.h,
+    // splitRenderError). judgeSpp > 0: that many samples in all; 0: rounds
+    // until the noise over the footprint is under judgeNoiseDeltaE, at
+    // most judgeMostSpp. The predictor must have loaded what the judge needs.
+    bool judge = false;
     std::string judgeIntegrator;
     uint32_t judgeSpp = 0;
+    double judgeNoiseDeltaE = 0.5;
+    uint32_t judgeMostSpp = 256;
     uint64_t judgeSeed = 99;
 };
 
@@ -84,18 +90,23 @@ struct OptimizeIteration {
 
 struct OptimizeJudgement {
     std::string integrator;
-    uint32_t spp = 0;
+    uint32_t spp = 0;  // in all, the two halves together
+    int rounds = 0;
     uint64_t seed = 0;
     double meanDeltaE = 0, p95DeltaE = 0;                  // CIEDE2000 per voxel
     double meanDeltaEFiltered = 0, p95DeltaEFiltered = 0;  // over the eye's footprint
     // The mean CIEDE2000 the judge's own noise makes, per voxel and over
-    // the footprint (compare/surface_colour_error.h, noiseColourError).
+    // the footprint (part of the errors above).
     double noiseDeltaE = 0, noiseDeltaEFiltered = 0;
-    // The estimate takes each voxel's noise as its own: with samples shared
-    // between voxels (light tracing) the footprint averages less of it out,
-    // and the estimate is a lower bound.
-    bool noiseIsLowerBound = false;
+    // Root mean square CIEDE2000 over the footprint with the judge's noise
+    // taken out (at least the mean it would have without noise).
+    double rmsDeltaEFilteredNoiseRemoved = 0;
     double seconds = 0;
+    // Per surface voxel over the eye's footprint: the judged colours and
+    // their CIEDE2000 from the mapped targets (what the print shows, with
+    // the judge's small noise rather than the loop's).
+    std::vector<RGB> judgedSeen;
+    std::vector<float> deltaESeen;
 };
 
 struct OptimizeResult {
@@ -110,7 +121,7 @@ struct OptimizeResult {
     // last two.
     std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
     std::vector<float> deltaESeen;
-    std::optional<OptimizeJudgement> judgement;  // with judgeSpp > 0
+    std::optional<OptimizeJudgement> judgement;  // with judge
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends

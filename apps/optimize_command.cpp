@@ -87,7 +87,10 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--predictor", "NAME|auto",
                      "predict with that estimator (as --integrator), or auto: diffusion while its score falls, then "
                      "volpath"},
-                    {"--judge-spp", "N", "render the final labels apart (the scene file's estimator, N spp) and score them"},
+                    {"--judge-spp", "N",
+                     "samples of the judge, which renders the final labels apart (the scene file's estimator) and "
+                     "scores them (default: until its noise is under --judge-noise, at most 256; 0: no judge)"},
+                    {"--judge-noise", "DE", "the judge's noise wanted over the footprint (CIEDE2000, default 0.5)"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
                     {"--update-footprint-mm", "S",
                      "average each iteration's error with a Gaussian of this sigma on the surface (default 0.2, the "
@@ -118,7 +121,14 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
         os.updateFootprint_mm = float(*s);
     }
-    os.judgeSpp = uint32_t(args.integer("--judge-spp", 1, RenderSettings::kMostSpp).value_or(0));
+    const auto judgeSpp = args.integer("--judge-spp", 0, RenderSettings::kMostSpp);
+    os.judge = judgeSpp.value_or(1) > 0;
+    os.judgeSpp = uint32_t(judgeSpp.value_or(0));
+    if (auto x = args.number("--judge-noise")) {
+        if (!(*x > 0)) throw UsageError("--judge-noise must be positive (CIEDE2000)");
+        if (judgeSpp) throw UsageError("optimize takes --judge-spp or --judge-noise, not both");
+        os.judgeNoiseDeltaE = *x;
+    }
     os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
     const std::string predictorName = args.value("--predictor").value_or("");
     if (!predictorName.empty() && args.has("--integrator"))
@@ -221,19 +231,14 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     "like with like)\n",
                     its.front().predictor.c_str(), its.back().predictor.c_str());
     if (const auto& j = result.judgement) {
-        std::printf("judged apart (%s, %u spp, seed %llu, %.1f s): loop error (mapped target -> print) over the eye's "
-                    "%g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
-                    j->integrator.c_str(), j->spp, (unsigned long long)j->seed, j->seconds, kEyeFootprint_mm,
-                    j->meanDeltaEFiltered, j->p95DeltaEFiltered, j->meanDeltaE, j->p95DeltaE);
-        // Its noise falls as the square root of its samples.
-        const double wanted = 0.5, enough = std::ceil(j->spp * std::pow(j->noiseDeltaEFiltered / wanted, 2));
-        const bool shared = j->noiseIsLowerBound;
-        std::printf("the judge's own noise: %s %.2f CIEDE2000 over the footprint (%.2f per voxel)%s\n",
-                    shared ? "at least" : "about", j->noiseDeltaEFiltered, j->noiseDeltaE,
-                    j->noiseDeltaEFiltered > wanted
-                        ? (", --judge-spp " + std::string(shared ? "above " : "") + std::to_string(int64_t(enough)) +
-                           " for under 0.5").c_str()
-                        : "");
+        std::printf("judged apart (%s, %u spp in %d round%s, seed %llu, %.1f s): loop error (mapped target -> print) "
+                    "over the eye's %g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
+                    j->integrator.c_str(), j->spp, j->rounds, j->rounds > 1 ? "s" : "", (unsigned long long)j->seed,
+                    j->seconds, kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered, j->meanDeltaE,
+                    j->p95DeltaE);
+        std::printf("the judge's own noise (its two halves' disagreement): %.2f CIEDE2000 over the footprint (%.2f per "
+                    "voxel); with it taken out, the loop error's root mean square over the footprint is %.3f\n",
+                    j->noiseDeltaEFiltered, j->noiseDeltaE, j->rmsDeltaEFilteredNoiseRemoved);
     }
     if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
     writeTextFile(csvFile, csv.str());
@@ -247,22 +252,33 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair), predictor.worldFrame(), voxels);
     writePredictionGlb(patches, result.targetSeen, targetGlb);
     writePredictionGlb(patches, result.mappedSeen, mappedGlb);
-    writePredictionGlb(patches, result.predictedSeen, predictionGlb);
-    std::vector<RGB> errorColors(result.deltaESeen.size());
-    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(result.deltaESeen[i]);
+    // The judge's colours when there is one: its noise is far below the
+    // loop's.
+    const auto& judgement = result.judgement;
+    writePredictionGlb(patches, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
+    const std::vector<float>& deltaESeen = judgement ? judgement->deltaESeen : result.deltaESeen;
+    std::vector<RGB> errorColors(deltaESeen.size());
+    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
     writePredictionGlb(patches, errorColors, errorGlb);
     HtmlReport report;
     report.title = "printlight optimize: " + desc.sceneFile.filename().string();
     char summary[400];
     std::snprintf(summary, sizeof summary,
                   "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
-                  "(mapped target -> prediction, iteration %d; %s, %u spp)%s. Error map: blue 0, green 2.5, yellow 5, "
-                  "red 10 or more.",
+                  "(mapped target -> prediction, iteration %d; %s, %u spp).",
                   kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
-                  predictor.settings().integrator.c_str(), predictor.settings().spp,
-                  result.judgement ? (", judged " + std::to_string(result.judgement->meanDeltaEFiltered).substr(0, 4)).c_str()
-                                   : "");
-    report.summary = summary;
+                  predictor.settings().integrator.c_str(), predictor.settings().spp);
+    std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
+    if (judgement) {
+        char text[240];
+        std::snprintf(text, sizeof text,
+                      " Judged apart (%s, %u spp): loop error %.2f, its noise %.2f (%.2f root mean square with the noise "
+                      "taken out); the prediction and error views are the judge's.",
+                      judgement->integrator.c_str(), judgement->spp, judgement->meanDeltaEFiltered,
+                      judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
+        judged = text;
+    }
+    report.summary = summary + judged + " Error map: blue 0, green 2.5, yellow 5, red 10 or more.";
     report.models = {{"target", targetGlb}, {"target mapped", mappedGlb}, {"prediction", predictionGlb},
                      {"CIEDE2000", errorGlb}};
     for (const OptimizeIteration& it : its) report.history.push_back({double(it.iteration), it.meanDeltaE});

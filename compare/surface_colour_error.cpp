@@ -86,4 +86,37 @@ SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std:
     return surfaceColourError(footprint, moved, colours);
 }
 
+SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::vector<RGB>& halfA,
+                                  const std::vector<RGB>& halfB, const std::vector<RGB>& reference) {
+    const size_t n = reference.size();
+    std::vector<RGB> mean(n), moved(n);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) {
+            mean[i][c] = 0.5f * (halfA[i][c] + halfB[i][c]);
+            moved[i][c] = mean[i][c] + 0.5f * (halfA[i][c] - halfB[i][c]);
+        }
+    SplitRenderError out;
+    out.error = surfaceColourError(footprint, mean, reference);
+    out.noise = surfaceColourError(footprint, moved, mean);
+    const std::vector<std::vector<RGB>> seen = footprint.apply(std::vector<const std::vector<RGB>*>{&halfA, &halfB, &reference});
+    out.meanSeen.resize(n);
+    out.deltaESeen.resize(n);
+    double sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) out.meanSeen[i][c] = 0.5f * (seen[0][i][c] + seen[1][i][c]);
+        out.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(out.meanSeen[i]), labFromLinearSrgb(seen[2][i])));
+        const Lab r = labFromLinearSrgb(seen[2][i]), a = labFromLinearSrgb(seen[0][i]), b = labFromLinearSrgb(seen[1][i]);
+        const double dA[3] = {a.L - r.L, a.a - r.a, a.b - r.b}, dB[3] = {b.L - r.L, b.a - r.a, b.b - r.b};
+        auto q = [&](double sign) {
+            const Lab x{float(r.L + dA[0] + sign * dB[0]), float(r.a + dA[1] + sign * dB[1]),
+                        float(r.b + dA[2] + sign * dB[2])};
+            const double e = ciede2000(r, x);
+            return e * e;
+        };
+        sum += 0.25 * (q(1) - q(-1));
+    }
+    out.rmsFilteredNoiseRemoved = std::sqrt(std::max(0.0, sum / double(std::max<size_t>(n, 1))));
+    return out;
+}
+
 }  // namespace pl

@@ -54,6 +54,26 @@ SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std:
 // `seed`; the same bits whatever the threads).
 std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed);
 
+// A render judged from two independent halves (the same samples each,
+// different seeds) against reference, per voxel and over the footprint.
+// The halves' disagreement measures the noise of their mean for every
+// estimator, samples shared between voxels included (light tracing): half
+// their difference is distributed as the mean's own noise. The noise is
+// also taken out of the error: the halves' errors dA, dB are independent
+// draws around the same bias, so the polarised cross term
+// (q(dA + dB) - q(dA - dB)) / 4, q(d) = CIEDE2000(reference, reference + d)^2,
+// has the bias's q as its mean (exactly where q is quadratic, CIEDE2000's
+// local form), whatever the noise.
+struct SplitRenderError {
+    SurfaceColourError error;       // the halves' mean against reference
+    SurfaceColourError noise;       // the mean's own noise (mean and p95 CIEDE2000)
+    double rmsFilteredNoiseRemoved = 0;  // root mean square CIEDE2000 over the footprint, noise taken out
+    std::vector<RGB> meanSeen;           // the halves' mean over the footprint
+    std::vector<float> deltaESeen;       // its CIEDE2000 from the reference over the footprint
+};
+SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::vector<RGB>& halfA,
+                                  const std::vector<RGB>& halfB, const std::vector<RGB>& reference);
+
 // A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
 // 5, red 10 and above.
 RGB deltaEColour(float deltaE);

@@ -893,6 +893,15 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     for (size_t i = 2; i < rows.size(); ++i) EXPECT_LT(rows[i][1], rows[i - 1][1] + rows[i][8]) << r.out;
     EXPECT_GT(rows[1][6], 0.0);  // labels changed
     EXPECT_NE(r.out.find("mapping loss"), std::string::npos) << r.out;
+    // The judge by default: rounds until its noise over the footprint is
+    // under 0.5, or its most samples.
+    const size_t judgeAt = r.out.find("the judge's own noise (its two halves' disagreement): ");
+    ASSERT_NE(judgeAt, std::string::npos) << r.out;
+    double judgeNoise = 0;
+    unsigned judgeSpp = 0;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + judgeAt + 54, "%lf", &judgeNoise), 1) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("judged apart (volpath, ") + 23, "%u", &judgeSpp), 1) << r.out;
+    EXPECT_TRUE(judgeNoise <= 0.5 || judgeSpp >= 256) << r.out;
     LabelGrid labels = loadLabelGrid(prefix.string() + "_labels.vdb", std::nullopt);
     EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
     EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
@@ -930,7 +939,7 @@ TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
     EXPECT_EQ(cells[0][7], "diffusion");
     EXPECT_EQ(cells.back()[7], "volpath");  // Monte Carlo by the end (diffusion's score flattens)
     const auto rows = readCsvNumbers(prefix.string() + ".csv");
-    const size_t at = r.out.find("judged apart (volpath, 8 spp, seed 99");
+    const size_t at = r.out.find("judged apart (volpath, 8 spp in 1 round, seed 99");
     ASSERT_NE(at, std::string::npos) << r.out;
     double perVoxel = 0, p95 = 0, filtered = 0;
     ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("footprint", at),
@@ -939,6 +948,16 @@ TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
         << r.out;
     EXPECT_LT(filtered, 0.6 * rows[0][1]) << r.out;
     EXPECT_LE(filtered, perVoxel) << r.out;  // averaging over the footprint removes noise
+    double noise = 0, noiseRemoved = 0;
+    const size_t noiseAt = r.out.find("the judge's own noise (its two halves' disagreement): ");
+    ASSERT_NE(noiseAt, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + noiseAt + 54, "%lf", &noise), 1) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("root mean square over the footprint is ", noiseAt) + 39, "%lf",
+                          &noiseRemoved),
+              1)
+        << r.out;
+    EXPECT_GT(noise, 0.0) << r.out;
+    EXPECT_LT(noiseRemoved, 0.6 * rows[0][1]) << r.out;
     CliRun bad = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8 --predictor fast", s.dir);
     EXPECT_EQ(bad.exitCode, 2) << bad.err;
     EXPECT_NE(bad.err.find("--predictor"), std::string::npos) << bad.err;
@@ -969,7 +988,7 @@ TEST(Cli, OptimizeReducesTheErrorOnTheDetailedCube) {
     fs::path prefix = s.dir / "opt";
     CliRun r = printlight("optimize " + (test::sourceDir() / "data/scenes/cube10_greek_surface.json").string() +
                               " --target " + (test::sourceDir() / "data/models/cube10_greek.gltf").string() +
-                              " --iterations 1 --spp 1 -o " + prefix.string(), s.dir);
+                              " --iterations 1 --spp 1 --judge-spp 0 -o " + prefix.string(), s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     auto rows = readCsvNumbers(prefix.string() + ".csv");
     ASSERT_EQ(rows.size(), 2u);
