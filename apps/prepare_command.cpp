@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "api/printer_characterisation.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "runtime/progress.h"
@@ -17,6 +18,7 @@
 #include "io/output_file.h"
 #include "prepare/halftone.h"
 #include "prepare/prepare_model.h"
+#include "prepare/printer_gamut.h"
 
 namespace pl {
 
@@ -51,7 +53,11 @@ int prepareCommand(const std::vector<std::string>& argv) {
                     {"--extrude-mm", "D", "depth of the coloured shell (default " + text(defaults.extrude_mm) + ")"},
                     {"--margin-mm", "M", "void margin around the model (default " + text(defaults.margin_mm) + ")"},
                     {"--materials", "FILE", "the material table (needed by --scene-out)"},
-                    {"--halftone", "error-diffusion|nearest", "how colours become resin labels"},
+                    {"--mixing", "gamut|simple",
+                     "how a colour becomes a mixture of the resins: the printer's characterisation of --materials "
+                     "(default with --materials; made on first use) or a simple subtractive model"},
+                    {"--gamut", "FILE", "the printer's characterisation for --mixing gamut (default: the material table's)"},
+                    {"--halftone", "error-diffusion|nearest", "how a mixture becomes resin labels"},
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
                     {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
                     {"--keep-colors", "", "also write the colour grid the labels were halftoned from"},
@@ -111,6 +117,13 @@ int prepareCommand(const std::vector<std::string>& argv) {
             if (!table.byLabel[l].defined)
                 throw InputError(materialsFile->string(), "label " + std::to_string(l) + " (a printer material) is missing");
     }
+    const std::string mixing = args.value("--mixing").value_or(materialsFile ? "gamut" : "simple");
+    if (mixing != "gamut" && mixing != "simple") throw UsageError("--mixing must be gamut or simple");
+    if (mixing == "gamut" && !materialsFile)
+        throw UsageError("--mixing gamut needs --materials FILE (the printer's gamut is its materials')");
+    if (args.has("--gamut") && mixing != "gamut") throw UsageError("--gamut goes with --mixing gamut");
+    if (auto file = args.value("--gamut"); file && !std::filesystem::exists(*file))
+        throw InputError(*file, "no such file (the printer's characterisation, --gamut)");
     refuseToOverwriteInputs(output, {model});
 
     // The model, then the pipeline (prepare/prepare_model.h).
@@ -148,6 +161,21 @@ int prepareCommand(const std::vector<std::string>& argv) {
     Geometry geometry(std::move(asset.mesh));
     const TriangleMesh& mesh = geometry.mesh();
     double tLoad = secondsSince(t0);
+    // The printer's gamut for the mixtures: characterised for this voxel
+    // and shell (the scenes' IOR, 1.5).
+    std::optional<PrinterGamut> gamut;
+    std::optional<GamutMixing> gamutMixing;
+    std::string mixingSource = "a simple subtractive model (--mixing simple)";
+    if (mixing == "gamut") {
+        CharacterisationSettings cs;
+        cs.voxel_mm = ps.voxel_mm;
+        cs.shellDepth_mm = ps.extrude_mm;
+        auto say = [&](const std::string& line) { mixingSource = line; };
+        if (auto file = args.value("--gamut")) gamut = readPrinterGamutFile(*file, *materialsFile, cs, say);
+        else gamut = printerGamutFor(*materialsFile, cs, say);
+        gamutMixing.emplace(*gamut);
+        ps.mixtureFor = [&](const RGB& c) { return (*gamutMixing)(c); };
+    }
     PreparedModel prepared = [&] {
         try {
             return prepareModel(geometry, asset.appearance, ps);
@@ -206,6 +234,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     double dense = double(f.voxelCount()) * 16.0;
     std::printf("prepare: %s: %s\n", model.string().c_str(), size);
     std::printf("  model:     %zu triangles, colour from %s\n", mesh.triangleCount(), prepared.colorSource.c_str());
+    std::printf("  mixtures:  %s\n", mixingSource.c_str());
     if (repair) std::printf("  repaired:  %s\n", repaired.text().c_str());
     std::printf("  grid:      %d x %d x %d = %llu voxels of %.4g x %.4g x %.4g mm\n", r.x, r.y, r.z,
                 (unsigned long long)f.voxelCount(), f.voxelSize_mm.x, f.voxelSize_mm.y, f.voxelSize_mm.z);

@@ -81,7 +81,7 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
                 size_t at = size_t(y) * r.x + s.x;
                 RGB c = useModelColor ? look.colorAt(mesh, s.prim, s.surfacePoint_mm) : constantColor;
                 colors[at] = c;
-                targets[at] = fractionsForColor(c);
+                targets[at] = settings.mixtureFor ? settings.mixtureFor(c) : fractionsForColor(c);
                 active[at] = 1;
             }
         if (settings.halftone == PrepareSettings::Halftone::ErrorDiffusion) {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,7 @@
 #include "core/rgb.h"
 #include "media/label_grid.h"
 #include "media/voxel_fields.h"
+#include "prepare/halftone.h"
 #include "prepare/surface_appearance.h"
 #include "prepare/voxelizer.h"
 
@@ -37,6 +39,11 @@ struct PrepareSettings {
     // most of prepare's memory, ~20 bytes a band voxel).
     std::optional<float> fieldBand_mm;
     bool showProgress = false;
+    // A colour's mixture of the printing materials; empty: fractionsForColor
+    // (prepare/halftone.h), a simple mixing model. prepare's command gives
+    // the printer's gamut (GamutMixing, prepare/printer_gamut.h) when it
+    // has the material table.
+    std::function<MaterialFractions(const RGB&)> mixtureFor;
 };
 
 struct PreparedModel {

@@ -217,4 +217,15 @@ PrinterGamut::Match PrinterGamut::closest(const Lab& target, const MaterialFract
     return {m, reflectance(m), c, std::sqrt(cost)};
 }
 
+MaterialFractions GamutMixing::operator()(const RGB& linear) {
+    const Lab lab = labFromLinearSrgb(linear);
+    // Tenths of L, a and b: the key packs them (offset to be positive) and
+    // the colour searched for is made of them.
+    const long L = std::lround(10.0f * lab.L), a = std::lround(10.0f * lab.a), b = std::lround(10.0f * lab.b);
+    const auto field = [](long tenths) { return uint64_t(tenths + 0x80000) & 0xfffff; };
+    const uint64_t key = (field(L) << 40) | (field(a) << 20) | field(b);
+    if (auto found = known_.find(key); found != known_.end()) return found->second;
+    return known_[key] = gamut_.closest(Lab{float(L) / 10.0f, float(a) / 10.0f, float(b) / 10.0f}).mixture;
+}
+
 }  // namespace pl

@@ -22,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include <absl/container/flat_hash_map.h>
+
 #include "compare/color_difference.h"
 #include "prepare/halftone.h"
 
@@ -62,6 +64,20 @@ private:
     std::vector<int32_t> gridIndexOfVertex_;     // cumulative coordinates -> grid index (-1: outside)
     std::vector<MaterialFractions> denseMixtures_;
     std::vector<Lab> denseColours_;
+};
+
+// prepare's mixtures from the gamut's inverse: each linear colour to the
+// mixture of its nearest printable colour, the colour first rounded to
+// 0.1 in CIELAB (a texture has few distinct colours, and the same rounded
+// colour gets the same mixture whatever the order). One thread at a time.
+class GamutMixing {
+public:
+    explicit GamutMixing(const PrinterGamut& gamut) : gamut_(gamut) {}
+    MaterialFractions operator()(const RGB& linear);
+
+private:
+    const PrinterGamut& gamut_;
+    absl::flat_hash_map<uint64_t, MaterialFractions> known_;
 };
 
 }  // namespace pl

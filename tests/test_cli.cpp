@@ -566,10 +566,17 @@ TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
     EXPECT_NE(r.err.find("--units must be m, mm or in"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(s.dir / "ft.vdb"));
 
-    r = printlight(prepare + "--fit-mm 4 --materials " + (s.dir / "materials.json").string() + " --scene-out " + (s.dir / "fit").string() + " -o " +
-                       (s.dir / "fit.vdb").string(),
+    // With the material table, the mixtures come from the printer's gamut.
+    r = printlight(prepare + "--mixing gamut -o " + (s.dir / "nogamut.vdb").string(), s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("--mixing gamut needs --materials"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s.dir / "nogamut.vdb"));
+    r = printlight(prepare + "--fit-mm 4 --materials " + (s.dir / "materials.json").string() + smallGamut(s) +
+                       " --scene-out " + (s.dir / "fit").string() + " -o " + (s.dir / "fit.vdb").string(),
                    s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("mixtures:  the printer's gamut: " + (s.dir / "gamut.json").string()), std::string::npos)
+        << r.out;
     EXPECT_NE(r.out.find("4 x 4 x 4 mm (coordinates in m: glTF coordinates are metres; --fit-mm: scaled by 2)"),
               std::string::npos)
         << r.out;
