@@ -250,6 +250,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     // first follow the error and then average the predictions' noise.
     std::vector<std::array<float, 3>> previousError(n);
     std::vector<uint16_t> reversals(n, 0);
+    std::vector<uint8_t> outside(n, 0);  // this iteration's request lay outside the gamut
+    int raisedAt = 0;                    // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
         const std::vector<RGB> predicted = reflectance(p.radiance, environment);
         // Over the footprint: the prediction, and the same moved by one draw
@@ -277,6 +279,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
+        it.spp = predictor.settings().spp;
         const DeltaEStats overFootprint = deltaEStats(seen, result.mappedSeen), raw = deltaEStats(predicted, mapped);
         it.meanDeltaE = overFootprint.mean;
         it.p95DeltaE = overFootprint.p95;
@@ -305,8 +308,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         std::string stop;
         if (iteration >= settings.maxIterations) stop = "its iterations";
         else if (settings.timeBudget_s > 0 && elapsed + lastSeconds > settings.timeBudget_s) stop = "its time budget";
-        else if (settings.patience > 0 && !onFast && iteration > 0 && iteration - result.bestIteration >= settings.patience)
-            stop = "its score stopped falling";
+        bool moreSamples = false;
+        if (stop.empty() && settings.patience > 0 && !onFast && iteration > 0 &&
+            iteration - std::max(result.bestIteration, raisedAt) >= settings.patience) {
+            // Stalled on the predictions' noise: first fewer of it, then stop.
+            if (noisy && predictor.settings().spp < settings.mostSpp) moreSamples = true;
+            else stop = "its score stopped falling";
+        }
         if (!stop.empty()) {
             result.stoppedBecause = stop;
             it.seconds = lastSeconds;
@@ -362,7 +370,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
                 const PrinterGamut::Match m = gamut.closest(wanted, mixture[i], 12);
                 mixture[i] = m.mixture;
                 request[i] = m.colour;
+                outside[i] = m.deltaEab > 1.0;
             });
+            it.outsideShare = double(std::count(outside.begin(), outside.end(), uint8_t(1))) / double(n);
         }
         std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixture);
         for (const auto& c : changes) labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)] = c.label;
@@ -375,6 +385,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // A new seed each iteration: the loop must not fit one noise realisation.
         predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
         if (switchNow) predictor.settings().integrator = monteCarlo;
+        if (moreSamples) {
+            // A new noise level starts a new averaging: Kesten's counts restart.
+            predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);
+            raisedAt = iteration;
+            std::fill(reversals.begin(), reversals.end(), uint16_t(0));
+        }
         p = predictor.predict();
     }
     result.deltaESeen.resize(n);

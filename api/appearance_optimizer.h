@@ -25,10 +25,11 @@
 //  - Scores: mean and 95th percentile of CIEDE2000 between prediction and
 //    mapped target over the eye's footprint (compare/surface_colour_error.h),
 //    per voxel, and over three footprints (the wide score, whose noise is
-//    small enough to show what the loop still changes). The loop stops
-//    after maxIterations, at its time budget, or when its wide score has not
-//    fallen 2 % below its best for `patience` iterations; it ends on the
-//    labels of its best wide score.
+//    small enough to show what the loop still changes). When the wide score
+//    has not fallen 2 % below its best for `patience` iterations, the
+//    predictions' samples go up 4x (to mostSpp: less noise, finer
+//    corrections); past that, or after maxIterations or its time budget,
+//    the loop stops and ends on the labels of its best wide score.
 #pragma once
 
 #include <functional>
@@ -46,6 +47,11 @@ struct OptimizeSettings {
     int maxIterations = 16;
     double timeBudget_s = 0;  // > 0: no new iteration past this wall time (the loop's)
     int patience = 2;         // iterations without a significant new best before it stops (0: never)
+    // The Monte Carlo predictions' most samples per pixel: where the score
+    // stops falling with fewer, they go up 4x (to at most this) before the
+    // loop stops (on the white cube's muted colour, 8 spp's predictions end
+    // at half the error of 2 spp's, where their noise stalls the loop).
+    uint32_t mostSpp = 8;
     float shellDepth_mm = 1.0f;
     float step = 0.8f;  // share of the error one iteration corrects, at the measured gain
     // The error is averaged with a Gaussian of this sigma on the surface, by
@@ -85,7 +91,12 @@ struct OptimizeIteration {
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;       // prediction plus update
     size_t changedVoxels = 0;
+    // Share of the surface voxels whose request, after this prediction,
+    // lay more than 1 Delta E*ab from the nearest printable colour found
+    // for it: where the print would need colours the printer cannot show.
+    double outsideShare = 0;
     std::string predictor;    // the integrator that made this iteration's prediction
+    uint32_t spp = 0;         // and its samples per pixel
 };
 
 struct OptimizeJudgement {

@@ -79,6 +79,9 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--iterations", "N", "the most loop iterations (default 16; it stops sooner when its score stops falling)"},
                     {"--time", "S", "no new iteration past S seconds of the loop"},
                     kSppOption,
+                    {"--most-spp", "N",
+                     "where the score stops falling, the predictions' samples go up 4x to at most N before the loop "
+                     "stops (default 8)"},
                     kSeedOption,
                     {"--step", "X", "share of the error one iteration corrects, at each voxel's measured gain (0..2]"},
                     {"--shell-mm", "D", "depth of the shell whose labels change"},
@@ -88,7 +91,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                      "predict with that estimator (as --integrator), or auto: diffusion while its score falls, then "
                      "volpath"},
                     {"--judge-spp", "N",
-                     "samples of the judge, which renders the final labels apart (the scene file's estimator) and "
+                     "samples of the judge, which renders the final labels apart (volpath) and "
                      "scores them (default: until its noise is under --judge-noise, at most 256; 0: no judge)"},
                     {"--judge-noise", "DE", "the judge's noise wanted over the footprint (CIEDE2000, default 0.5)"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
@@ -153,10 +156,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
     desc.render.volpath.reentry = false;  // surface prediction
-    // The judge renders with the scene file's own Monte Carlo estimator,
-    // whatever predicts (a deterministic predictor cannot judge itself).
+    // The judge renders with volpath, the reference path tracer, whatever
+    // predicts or the scene file names (lighttrace's footprint noise costs
+    // ~3x its samples' time on the greek cube).
     RenderSettings judge = desc.render;
-    if (integratorKindOf(judge).deterministic) chooseIntegrator(judge, "volpath", "the judge");
+    chooseIntegrator(judge, "volpath", "the judge");
     os.judgeIntegrator = judge.integrator;
     // By default the loop's measured best (docs/api.md): volpath at 2 spp,
     // whatever the scene file renders with.
@@ -165,6 +169,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         desc.render.spp = 2;
     }
     applyRenderOptions(args, desc.render);
+    os.mostSpp = uint32_t(args.integer("--most-spp", 1, RenderSettings::kMostSpp).value_or(os.mostSpp));
+    os.mostSpp = std::max(os.mostSpp, desc.render.spp);
     desc.render.channels = {0, 1, 2};
     if (predictorName == "auto") {
         os.fastPredictor = "diffusion";
@@ -197,15 +203,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000,mean_de2000_wide\n";
+        "noise_de2000,mean_de2000_wide,outside_share,spp\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
-        char line[192];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f\n", it.iteration, it.meanDeltaE,
-                      it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds, it.changedVoxels,
-                      it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide);
+        char line[208];
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u\n", it.iteration,
+                      it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds,
+                      it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide, it.outsideShare,
+                      it.spp);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
@@ -226,6 +233,11 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
                 its.front().p95DeltaE, best.p95DeltaE, its.front().meanDeltaEWide, best.meanDeltaEWide,
                 result.stoppedBecause.c_str(), loopSeconds);
+    if (result.bestIteration >= 2)
+        std::printf("the best labels' requests: %.1f %% of the surface voxels asked for colours the printer cannot show "
+                    "(more than 1 Delta E*ab outside its gamut): there the error is the printer's limit (its blur, "
+                    "its edges), not the loop's\n",
+                    100.0 * its[size_t(result.bestIteration - 1)].outsideShare);
     if (its.front().predictor != its.back().predictor)
         std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
                     "like with like)\n",

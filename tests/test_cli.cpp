@@ -899,6 +899,14 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     EXPECT_LT(rows[1][1], 0.5 * rows[0][1]) << r.out;
     for (size_t i = 2; i < rows.size(); ++i) EXPECT_LT(rows[i][1], rows[i - 1][1] + rows[i][8]) << r.out;
     EXPECT_GT(rows[1][6], 0.0);  // labels changed
+    // The samples: 4 as asked, 4x more (the most, 8 by default) once the
+    // score stalls, never fewer again.
+    for (size_t i = 0; i < rows.size(); ++i) {
+        EXPECT_TRUE(rows[i][11] == 4.0 || rows[i][11] == 8.0) << r.out;
+        if (i > 0) {
+            EXPECT_GE(rows[i][11], rows[i - 1][11]) << r.out;
+        }
+    }
     EXPECT_NE(r.out.find("mapping loss"), std::string::npos) << r.out;
     // The judge by default: rounds until its noise over the footprint is
     // under 0.5, or its most samples.
