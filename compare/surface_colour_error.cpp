@@ -89,22 +89,28 @@ SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std:
 SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::vector<RGB>& halfA,
                                   const std::vector<RGB>& halfB, const std::vector<RGB>& reference) {
     const size_t n = reference.size();
-    std::vector<RGB> mean(n), moved(n);
+    // The mean moved by half the halves' difference is half A itself.
+    std::vector<RGB> mean(n);
     for (size_t i = 0; i < n; ++i)
-        for (int c = 0; c < 3; ++c) {
-            mean[i][c] = 0.5f * (halfA[i][c] + halfB[i][c]);
-            moved[i][c] = mean[i][c] + 0.5f * (halfA[i][c] - halfB[i][c]);
-        }
-    SplitRenderError out;
-    out.error = surfaceColourError(footprint, mean, reference);
-    out.noise = surfaceColourError(footprint, moved, mean);
+        for (int c = 0; c < 3; ++c) mean[i][c] = 0.5f * (halfA[i][c] + halfB[i][c]);
+    // One pass of the footprint: it is linear, so the mean's follows.
     const std::vector<std::vector<RGB>> seen = footprint.apply(std::vector<const std::vector<RGB>*>{&halfA, &halfB, &reference});
+    SplitRenderError out;
     out.meanSeen.resize(n);
-    out.deltaESeen.resize(n);
+    for (size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) out.meanSeen[i][c] = 0.5f * (seen[0][i][c] + seen[1][i][c]);
+    out.deltaESeen = deltaEs(out.meanSeen, seen[2]);
+    auto errorOf = [](std::vector<float> perVoxel, const std::vector<float>& filtered) {
+        SurfaceColourError e;
+        const DeltaEStats raw = meanAndP95(perVoxel), over = meanAndP95(filtered);
+        e.mean = raw.mean, e.p95 = raw.p95, e.meanFiltered = over.mean, e.p95Filtered = over.p95;
+        e.perVoxel = std::move(perVoxel);
+        return e;
+    };
+    out.error = errorOf(deltaEs(mean, reference), out.deltaESeen);
+    out.noise = errorOf(deltaEs(halfA, mean), deltaEs(seen[0], out.meanSeen));
     double sum = 0;
     for (size_t i = 0; i < n; ++i) {
-        for (int c = 0; c < 3; ++c) out.meanSeen[i][c] = 0.5f * (seen[0][i][c] + seen[1][i][c]);
-        out.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(out.meanSeen[i]), labFromLinearSrgb(seen[2][i])));
         const Lab r = labFromLinearSrgb(seen[2][i]), a = labFromLinearSrgb(seen[0][i]), b = labFromLinearSrgb(seen[1][i]);
         const double dA[3] = {a.L - r.L, a.a - r.a, a.b - r.b}, dB[3] = {b.L - r.L, b.a - r.a, b.b - r.b};
         auto q = [&](double sign) {
