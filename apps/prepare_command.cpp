@@ -52,7 +52,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
                          text(defaults.voxel_mm.y) + "," + text(defaults.voxel_mm.z) + ")"},
                     {"--extrude-mm", "D", "depth of the coloured shell (default " + text(defaults.extrude_mm) + ")"},
                     {"--margin-mm", "M", "void margin around the model (default " + text(defaults.margin_mm) + ")"},
-                    {"--materials", "FILE", "the material table (needed by --scene-out)"},
+                    {"--materials", "FILE",
+                     "the material table (default with --scene-out: the bundled one, written beside the scenes)"},
                     {"--mixing", "gamut|simple",
                      "how a colour becomes a mixture of the resins: the printer's characterisation of --materials "
                      "(default with --materials; made on first use) or a simple subtractive model"},
@@ -105,13 +106,35 @@ int prepareCommand(const std::vector<std::string>& argv) {
     ps.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     std::optional<std::filesystem::path> sceneOut;
     if (auto s = args.value("--scene-out")) {
-        if (!args.has("--materials")) throw UsageError("--scene-out needs --materials FILE for the scenes");
         sceneOut = *s;
         if (sceneOut->extension() == ".json") sceneOut->replace_extension();
     }
     std::optional<std::filesystem::path> materialsFile;
-    if (auto m = args.value("--materials")) {
-        materialsFile = *m;
+    // Scenes need a material table: without --materials, the bundled one
+    // and its characterisation are written beside them (removed again if
+    // prepare fails: no partial output).
+    std::vector<std::filesystem::path> bundledCopies;
+    struct RemoveUnlessKept {
+        std::vector<std::filesystem::path>* files;
+        bool keep = false;
+        ~RemoveUnlessKept() {
+            std::error_code ec;
+            if (!keep)
+                for (const auto& f : *files) std::filesystem::remove(f, ec);
+        }
+    } bundledGuard{&bundledCopies};
+    if (sceneOut && !args.has("--materials")) {
+        materialsFile = sceneOut->string() + "_materials.json";
+        const std::filesystem::path gamutFile = sceneOut->string() + "_materials.gamut.json";
+        refuseToOverwriteInputs(*materialsFile, {model});
+        refuseToOverwriteInputs(gamutFile, {model});
+        writeTextFile(*materialsFile, bundledMaterialTable());
+        bundledCopies.push_back(*materialsFile);
+        writeTextFile(gamutFile, bundledPrinterGamut());
+        bundledCopies.push_back(gamutFile);
+    }
+    if (auto m = args.value("--materials")) materialsFile = *m;
+    if (materialsFile) {
         MaterialTable table = loadMaterials(*materialsFile);
         for (Label l : kPrintMaterialLabel)
             if (!table.byLabel[l].defined)
@@ -205,8 +228,10 @@ int prepareCommand(const std::vector<std::string>& argv) {
         std::string stem = sceneOut->filename().string();
         nlohmann::json surface = {{"object", object},
                                   {"environment", {{"radiance", {1, 1, 1}}}},
-                                  {"sensor", {{"type", "surface_voxels"}}},
-                                  {"render", {{"integrator", "volpath"}, {"spp", 4}, {"seed", 1}, {"channel", "rgb"}, {"reentry", false}}},
+                                  // The bundled scenes' settings (data/scenes): light
+                                  // tracing over each voxel's patch.
+                                  {"sensor", {{"type", "surface_voxels"}, {"footprint", "patch"}}},
+                                  {"render", {{"integrator", "lighttrace"}, {"spp", 8}, {"seed", 1}, {"channel", "rgb"}, {"reentry", false}}},
                                   {"output", {{"path", "out/" + stem + "_surface"}}}};
         nlohmann::json preview = surface;
         // Looking at the centre from a corner above, far enough to frame it.
@@ -218,6 +243,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                              {"fov_deg", 30},
                              {"resolution", {320, 240}}};
         // A preview stops at 5 % median noise or after a minute.
+        preview["render"]["integrator"] = "volpath";
         preview["render"].erase("spp");
         preview["render"]["target_relative_error"] = 0.05;
         preview["render"]["time_budget_s"] = 60;
@@ -227,6 +253,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
         writeTextFile(sceneOut->string() + "_preview.json", preview.dump(2) + "\n");
     }
     double tWrite = secondsSince(t3);
+    bundledGuard.keep = true;
 
     // Summary.
     auto hist = grid.histogram();
@@ -234,6 +261,9 @@ int prepareCommand(const std::vector<std::string>& argv) {
     double dense = double(f.voxelCount()) * 16.0;
     std::printf("prepare: %s: %s\n", model.string().c_str(), size);
     std::printf("  model:     %zu triangles, colour from %s\n", mesh.triangleCount(), prepared.colorSource.c_str());
+    if (!bundledCopies.empty())
+        std::printf("  materials: the bundled table (%s; no --materials), written to %s\n", kBundledMaterialName,
+                    materialsFile->string().c_str());
     std::printf("  mixtures:  %s\n", mixingSource.c_str());
     if (repair) std::printf("  repaired:  %s\n", repaired.text().c_str());
     std::printf("  grid:      %d x %d x %d = %llu voxels of %.4g x %.4g x %.4g mm\n", r.x, r.y, r.z,

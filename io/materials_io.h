@@ -12,6 +12,12 @@
 namespace pl {
 
 MaterialTable loadMaterials(const std::filesystem::path& file);
+
+// The bundled material table and its printer characterisation, compiled in
+// (for models prepared without a table of their own).
+constexpr const char* kBundledMaterialName = "data/materials/resins_illustrative.json";
+const char* bundledMaterialTable();
+const char* bundledPrinterGamut();  // data/materials/resins_illustrative.gamut.json
 // The same from a node of a JSON file (a list, or {"materials": [...]}).
 MaterialTable readMaterials(const JsonReader& json, const nlohmann::json& node);
 

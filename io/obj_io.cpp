@@ -1,5 +1,7 @@
 #include "io/mesh_formats.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -45,7 +47,15 @@ void loadMtl(const std::filesystem::path& file, ObjMaterials& out) {
             std::getline(ls, rest);
             std::istringstream rs(rest);
             while (rs >> tex) {}  // options may precede the file name; it comes last
-            out.appearance->textures.push_back(readTexture(file.parent_path() / tex));
+            // Exporters on Windows write ".\\name.jpg": the separator is ours.
+            std::replace(tex.begin(), tex.end(), '\\', '/');
+            const std::filesystem::path texture = file.parent_path() / tex;
+            if (!std::filesystem::exists(texture)) {
+                std::fprintf(stderr, "printlight: warning: %s: texture %s not found; its material keeps its Kd\n",
+                             name.c_str(), texture.string().c_str());
+                continue;
+            }
+            out.appearance->textures.push_back(readTexture(texture));
             mats[size_t(current)].texture = int(out.appearance->textures.size()) - 1;
         }
     }

@@ -587,6 +587,31 @@ TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
                    s.dir);
     EXPECT_EQ(r.exitCode, 0) << r.err;
 
+    // Without --materials, the scenes get the bundled table and its
+    // characterisation beside them, and the bundled scenes' settings.
+    r = printlight(prepare.substr(0, prepare.find(" --voxel")) + " --fit-mm 1 --scene-out " + (s.dir / "own").string() +
+                       " -o " + (s.dir / "own.vdb").string(),
+                   s.dir);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("materials: the bundled table"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("mixtures:  the printer's gamut: " + (s.dir / "own_materials.gamut.json").string()),
+              std::string::npos)
+        << r.out;
+    const nlohmann::json own = nlohmann::json::parse(readText(s.dir / "own_surface.json"));
+    EXPECT_EQ(own["object"]["materials"], "own_materials.json");
+    EXPECT_EQ(own["render"]["integrator"], "lighttrace");
+    EXPECT_EQ(own["sensor"]["footprint"], "patch");
+    r = printlight("render " + (s.dir / "own_surface.json").string() + " --spp 1 -o " + (s.dir / "own_render").string(),
+                   s.dir);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    // A prepare that fails leaves neither the grid nor the table behind.
+    r = printlight("prepare " + (s.dir / "nothing.gltf").string() + " --scene-out " + (s.dir / "gone").string() +
+                       " -o " + (s.dir / "gone.vdb").string(),
+                   s.dir);
+    EXPECT_NE(r.exitCode, 0);
+    EXPECT_FALSE(fs::exists(s.dir / "gone_materials.json"));
+    EXPECT_FALSE(fs::exists(s.dir / "gone.vdb"));
+
     // The scene key: a unit that does not exist is named.
     s.scene["object"]["mesh_units"] = "ft";
     expectCleanFailure(s, s.render(), "scene.json", "object.mesh_units");

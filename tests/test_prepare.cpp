@@ -258,7 +258,7 @@ TEST(PrepareModel, TheDistanceBandIsAsWideAsAsked) {
     std::filesystem::remove_all(dir);
 }
 
-TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
+TEST(PrepareCli, MissingTexturesKeepKdUnreadableOnesAndOpenMeshesFailCleanly) {
     auto dir = test::freshTempDir("prepare_cli");
     // OBJ whose material names a texture that is not there.
     std::ofstream(dir / "cube.mtl") << "newmtl skin\nKd 1 1 1\nmap_Kd missing.png\n";
@@ -270,13 +270,19 @@ TEST(PrepareCli, UnreadableTexturesAndOpenMeshesFailCleanly) {
         obj << "f " << box.indices[3 * t] + 1 << ' ' << box.indices[3 * t + 1] + 1 << ' ' << box.indices[3 * t + 2] + 1 << '\n';
     obj.close();
     std::string err;
-    EXPECT_EQ(prepareExit("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
-    EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
-    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
-    // A texture file that is not an image.
+    // A texture that is not there: the material keeps its Kd, and a warning names the file.
+    EXPECT_EQ(prepareExit("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "kd.vdb").string() + " --voxel 0.1,0.1,0.1",
+                          err),
+              0);
+    EXPECT_NE(err.find("warning:"), std::string::npos) << err;
+    EXPECT_NE(err.find("missing.png not found"), std::string::npos) << err;
+    // Windows' separator (".\\name.png", as exporters there write it) is ours.
+    std::ofstream(dir / "cube.mtl") << "newmtl skin\nKd 1 1 1\nmap_Kd .\\missing.png\n";
+    // A texture file that is not an image: refused, naming it.
     std::ofstream(dir / "missing.png") << "not a png";
     EXPECT_EQ(prepareExit("prepare " + (dir / "cube.obj").string() + " -o " + (dir / "out.vdb").string(), err), 1);
     EXPECT_NE(err.find("missing.png"), std::string::npos) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     // An open mesh.
     box.indices.resize(box.indices.size() - 3);
     writeObj(box, dir / "open.obj");
