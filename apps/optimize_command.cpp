@@ -261,17 +261,18 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     // The best iteration on the model as the eye sees it (over its
     // footprint): the target as given and as mapped, the prediction and
     // CIEDE2000; the page that shows them with the history.
-    const SurfacePatches patches(loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair), predictor.worldFrame(), voxels);
-    writePredictionGlb(patches, result.targetSeen, targetGlb);
-    writePredictionGlb(patches, result.mappedSeen, mappedGlb);
+    const TriangleMesh mesh = loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair);
+    const GridFrame frame = predictor.worldFrame();
+    writePredictionGlb(mesh, frame, voxels, result.targetSeen, targetGlb);
+    writePredictionGlb(mesh, frame, voxels, result.mappedSeen, mappedGlb);
     // The judge's colours when there is one: its noise is far below the
     // loop's.
     const auto& judgement = result.judgement;
-    writePredictionGlb(patches, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
+    writePredictionGlb(mesh, frame, voxels, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
     const std::vector<float>& deltaESeen = judgement ? judgement->deltaESeen : result.deltaESeen;
     std::vector<RGB> errorColors(deltaESeen.size());
     for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
-    writePredictionGlb(patches, errorColors, errorGlb);
+    writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
     HtmlReport report;
     report.title = "printlight optimize: " + desc.sceneFile.filename().string();
     char summary[400];

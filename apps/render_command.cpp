@@ -174,21 +174,12 @@ int renderCommand(const std::vector<std::string>& argv) {
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
         writeSurfaceResultVdb(scene.worldFrame(), voxels, result.film, outputs[2]);
-        // The prediction on the model, over the voxels' patches (made here
-        // for the ray footprint, which renders without them, once the film
-        // is no longer held).
+        // The prediction on the model, once the film is no longer held.
         std::vector<RGB> colors(voxels.size());
         for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
         result.film = Film();
-        const auto& surfaceSensor = static_cast<const SurfaceVoxelSensor&>(*sensor);
-        std::unique_ptr<SurfacePatches> ownPatches;
-        const SurfacePatches* patches = surfaceSensor.patches();
-        if (!patches) {
-            ownPatches = std::make_unique<SurfacePatches>(scene.geometry->mesh(), scene.worldFrame(), voxels);
-            patches = ownPatches.get();
-        }
         try {
-            writePredictionGlb(*patches, colors, outputs[3]);
+            writePredictionGlb(scene.geometry->mesh(), scene.worldFrame(), voxels, colors, outputs[3]);
         } catch (const GlbTooLarge& e) {
             std::fprintf(stderr, "printlight: warning: %s\n", e.what());
             outputs.pop_back();

@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/nearest_surface_voxel.h"
+#include "core/triangle_atlas.h"
 #include "io/base64.h"
 #include "io/file_names.h"
 #include "io/image_io.h"
@@ -377,75 +380,82 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& look, const st
     writeTextFile(file, gltf.dump(1) + "\n");
 }
 
-void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
-                        const std::filesystem::path& file) {
+void writePredictionGlb(const TriangleMesh& mesh_mm, const GridFrame& frame, const std::vector<Vec3i>& voxels,
+                        const std::vector<RGB>& linearColor, const std::filesystem::path& file) {
     using nlohmann::json;
-    // Each piece with its own three vertices (no index buffer), coloured by
-    // its voxel: positions (metres, float) then colours (unorm16 RGBA).
-    // Streamed to the file from the patches (a tray-sized model has 1e8
-    // pieces): only the bounds are gathered first.
-    size_t pieces = 0;
-    Bounds3f bounds_m;
-    for (size_t pixel = 0; pixel < linearColor.size(); ++pixel)
-        for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p, ++pieces)
-            for (const Point3f& v : {p->a, p->b, p->c}) bounds_m.expand(metresOf(v));
-    // A .glb's lengths are 32-bit.
-    const uint64_t vertices = 3 * uint64_t(pieces), positionBytes = vertices * 12, colorBytes = vertices * 8;
+    // Texels of the voxel's middle side: the colours change from voxel to
+    // voxel, and the eye's footprint spans several.
+    std::array<float, 3> sides{frame.voxelSize_mm.x, frame.voxelSize_mm.y, frame.voxelSize_mm.z};
+    std::sort(sides.begin(), sides.end());
+    const TriangleAtlas atlas(mesh_mm, sides[1]);
+    const NearestSurfaceVoxel nearest(frame, voxels);
+    Texture texture;
+    texture.width = atlas.width();
+    texture.height = atlas.height();
+    texture.linear = atlas.bake([&](uint32_t, const Point3f& x_mm) {
+        const std::optional<uint32_t> pixel = nearest.at(x_mm);
+        return pixel ? linearColor[*pixel] : RGB{0, 0, 0};
+    });
+    const std::vector<unsigned char> png = texturePngBytes(texture);
+    texture = Texture();
+    // Three vertices of its own per triangle: each is in its own chart.
+    TriangleMesh flat;
+    SurfaceAppearance look;
+    const size_t triangles = mesh_mm.triangleCount();
+    flat.positions_mm.reserve(3 * triangles);
+    look.uvs.reserve(3 * triangles);
+    for (size_t t = 0; t < triangles; ++t) {
+        const auto& uv = atlas.uv(t);
+        for (int k = 0; k < 3; ++k) {
+            flat.positions_mm.push_back(mesh_mm.positions_mm[mesh_mm.indices[3 * t + size_t(k)]]);
+            look.uvs.push_back(uv[size_t(k)]);
+        }
+    }
+    GltfDocument doc = meshDocument(flat, look);
+    const uint64_t meshBytes = doc.buffer.size(), allBytes = meshBytes + png.size();
     constexpr uint64_t kMostGlbBytes = 0xFFFFFFFFull - (1u << 20);  // less room for the JSON
-    if (positionBytes + colorBytes > kMostGlbBytes)
-        throw GlbTooLarge("the prediction on the model (" + std::to_string(pieces) + " patch pieces, " +
-                          std::to_string((positionBytes + colorBytes) >> 30) + " GiB) exceeds a .glb's 4 GiB: " +
-                          file.string() + " is not written (the .exr and .vdb hold the prediction)");
-    json gltf = oneMeshDocument(
-        {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positionBytes}, {"target", 34962}},
-         {{"buffer", 0}, {"byteOffset", positionBytes}, {"byteLength", colorBytes}, {"target", 34962}}},
-        {{{"bufferView", 0}, {"componentType", 5126}, {"count", vertices}, {"type", "VEC3"},
-          {"min", {bounds_m.lo.x, bounds_m.lo.y, bounds_m.lo.z}}, {"max", {bounds_m.hi.x, bounds_m.hi.y, bounds_m.hi.z}}},
-         {{"bufferView", 1}, {"componentType", 5123}, {"count", vertices}, {"type", "VEC4"}, {"normalized", true}}},
-        {{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}}, {"mode", 4}, {"material", 0}});
+    if (allBytes > kMostGlbBytes)
+        throw GlbTooLarge("the prediction on the model (" + std::to_string(triangles) + " triangles, " +
+                          std::to_string(allBytes >> 30) + " GiB) exceeds a .glb's 4 GiB: " + file.string() +
+                          " is not written (the .exr and .vdb hold the prediction)");
+    json& gltf = doc.gltf;
+    gltf["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", meshBytes}, {"byteLength", png.size()}});
+    gltf["images"] = {{{"bufferView", gltf["bufferViews"].size() - 1}, {"mimeType", "image/png"}}};
+    // Linear, no mipmaps: the charts' neighbours in the atlas must not bleed in.
+    gltf["samplers"] = {{{"magFilter", 9729}, {"minFilter", 9729}, {"wrapS", 33071}, {"wrapT", 33071}}};
+    gltf["textures"] = {{{"source", 0}, {"sampler", 0}}};
     // Unlit: the colours are the radiance leaving the surface already; a
     // viewer's own lights must not shade them again.
     gltf["extensionsUsed"] = {"KHR_materials_unlit"};
-    gltf["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
+    gltf["materials"] = {{{"pbrMetallicRoughness",
+                           {{"baseColorFactor", {1, 1, 1, 1}}, {"baseColorTexture", {{"index", 0}}},
+                            {"metallicFactor", 0.0}, {"roughnessFactor", 1.0}}},
                           {"extensions", {{"KHR_materials_unlit", json::object()}}}}};
-    gltf["buffers"] = {{{"byteLength", positionBytes + colorBytes}}};
-    // The binary container: header, JSON chunk (space-padded), BIN chunk.
+    gltf["meshes"][0]["primitives"][0]["material"] = 0;
+    gltf["buffers"] = {{{"byteLength", allBytes}}};
+    // The binary container: header, JSON chunk (space-padded), BIN chunk
+    // (zero-padded to 4 bytes).
     std::string text = gltf.dump();
     while (text.size() % 4) text.push_back(' ');
+    const uint64_t binBytes = (allBytes + 3) / 4 * 4;
     auto u32 = [](std::string& out, uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
-    std::string bytes;
-    u32(bytes, 0x46546C67);  // "glTF"
-    u32(bytes, 2);
-    u32(bytes, uint32_t(12 + 8 + text.size() + 8 + positionBytes + colorBytes));
-    u32(bytes, uint32_t(text.size()));
-    u32(bytes, 0x4E4F534A);  // "JSON"
-    bytes += text;
-    u32(bytes, uint32_t(positionBytes + colorBytes));
-    u32(bytes, 0x004E4942);  // "BIN"
+    std::string head;
+    u32(head, 0x46546C67);  // "glTF"
+    u32(head, 2);
+    u32(head, uint32_t(12 + 8 + text.size() + 8 + binBytes));
+    u32(head, uint32_t(text.size()));
+    u32(head, 0x4E4F534A);  // "JSON"
+    head += text;
+    u32(head, uint32_t(binBytes));
+    u32(head, 0x004E4942);  // "BIN"
     OutputFile out(file);
     {
         std::ofstream f(out.tempPath(), std::ios::binary);
-        auto flushIfFull = [&](size_t atLeast) {
-            if (bytes.size() < atLeast) return;
-            f.write(bytes.data(), std::streamsize(bytes.size()));
-            bytes.clear();
-        };
-        for (size_t pixel = 0; pixel < linearColor.size(); ++pixel, flushIfFull(1 << 20))
-            for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
-                for (const Point3f& v : {p->a, p->b, p->c}) {
-                    const Point3f m = metresOf(v);
-                    bytes.append(reinterpret_cast<const char*>(&m.x), 4);
-                    bytes.append(reinterpret_cast<const char*>(&m.y), 4);
-                    bytes.append(reinterpret_cast<const char*>(&m.z), 4);
-                }
-        for (size_t pixel = 0; pixel < linearColor.size(); ++pixel, flushIfFull(1 << 20)) {
-            uint16_t rgba[4] = {0, 0, 0, 65535};
-            for (int c = 0; c < 3; ++c)
-                rgba[c] = uint16_t(std::lround(65535.0f * std::min(std::max(linearColor[pixel][c], 0.0f), 1.0f)));
-            for (const SurfacePatches::Piece* p = patches.begin(pixel); p != patches.end(pixel); ++p)
-                for (int k = 0; k < 3; ++k) bytes.append(reinterpret_cast<const char*>(rgba), 8);
-        }
-        flushIfFull(0);
+        f.write(head.data(), std::streamsize(head.size()));
+        f.write(reinterpret_cast<const char*>(doc.buffer.data()), std::streamsize(meshBytes));
+        f.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+        const char zeros[4] = {0, 0, 0, 0};
+        f.write(zeros, std::streamsize(binBytes - allBytes));
         if (!f) throw std::runtime_error("cannot write " + file.string());
     }
     out.commit();

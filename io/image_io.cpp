@@ -1,5 +1,6 @@
 #include "io/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -151,12 +152,30 @@ Texture readTexture(const std::filesystem::path& file) {
     return Texture::fromInterleaved(spec.width, spec.height, spec.nchannels, data, encoded);
 }
 
-void writeTexturePng(const Texture& texture, const std::filesystem::path& file) {
-    OIIO::ImageSpec spec(texture.width, texture.height, 3, OIIO::TypeDesc::UINT8);
+namespace {
+std::vector<uint8_t> srgb8(const Texture& texture) {
     std::vector<uint8_t> data(texture.linear.size() * 3);
     for (size_t i = 0; i < texture.linear.size(); ++i)
-        for (int c = 0; c < 3; ++c) data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(texture.linear[i][c])));
-    writeImage(file, spec, data.data());
+        for (int c = 0; c < 3; ++c)
+            data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(std::clamp(texture.linear[i][c], 0.0f, 1.0f))));
+    return data;
+}
+}  // namespace
+
+void writeTexturePng(const Texture& texture, const std::filesystem::path& file) {
+    OIIO::ImageSpec spec(texture.width, texture.height, 3, OIIO::TypeDesc::UINT8);
+    writeImage(file, spec, srgb8(texture).data());
+}
+
+std::vector<unsigned char> texturePngBytes(const Texture& texture) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    OIIO::ImageSpec spec(texture.width, texture.height, 3, OIIO::TypeDesc::UINT8);
+    auto img = OIIO::ImageOutput::create("texture.png");
+    if (!img || !img->set_ioproxy(&proxy) || !img->open("texture.png", spec) ||
+        !img->write_image(spec.format, srgb8(texture).data()) || !img->close())
+        throw std::runtime_error("cannot encode a PNG: " + (img ? img->geterror() : OIIO::geterror()));
+    return bytes;
 }
 
 }  // namespace pl

@@ -51,5 +51,7 @@ RadianceImage readExr(const std::filesystem::path& file);
 Texture readTexture(const std::filesystem::path& file);
 // Writes an 8-bit sRGB PNG.
 void writeTexturePng(const Texture& texture, const std::filesystem::path& file);
+// The same PNG in memory (a texture inside a .glb).
+std::vector<unsigned char> texturePngBytes(const Texture& texture);
 
 }  // namespace pl

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "core/geometry.h"
-#include "core/surface_patches.h"
+#include "core/grid_frame.h"
 #include "io/length_units.h"
 #include "prepare/surface_appearance.h"
 
@@ -48,15 +48,18 @@ void writeGltf(const TriangleMesh& mesh, const SurfaceAppearance& appearance,
                const std::string& textureUri, const std::filesystem::path& file);
 
 // The prediction on the model, as a glTF binary any viewer opens: the
-// surface-voxel sensor's patches, each piece coloured with its voxel's
-// predicted radiance (linear RGB, clamped to [0, 1], as vertex colours)
-// under an unlit material.
-// GlbTooLarge (before anything is built or written) if the model would
-// exceed the format's 4 GiB.
+// object's own mesh (millimetres, as loaded for the render; in metres in
+// the file) with the colours of its surface voxels (linear RGB, clamped to
+// [0, 1]) baked into a texture: each point of the surface shows the voxel
+// whose centre is nearest (core/nearest_surface_voxel.h), in an atlas of
+// the triangles (core/triangle_atlas.h) at the voxel's middle side, as an
+// 8-bit sRGB PNG, under an unlit material.
+// GlbTooLarge (before anything is written) if it would exceed the
+// format's 4 GiB.
 struct GlbTooLarge : std::length_error {
     using std::length_error::length_error;
 };
-void writePredictionGlb(const SurfacePatches& patches, const std::vector<RGB>& linearColor,
-                        const std::filesystem::path& file);
+void writePredictionGlb(const TriangleMesh& mesh_mm, const GridFrame& frame, const std::vector<Vec3i>& voxels,
+                        const std::vector<RGB>& linearColor, const std::filesystem::path& file);
 
 }  // namespace pl

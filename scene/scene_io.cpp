@@ -260,8 +260,9 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 //    grid (70), lighttrace's light tallies (16 parts of a double score
 //    and a float square, and the block's two doubles: 208), and 56 bytes
 //    per atlas pixel for the images;
-//  - the .glb after it: the sensor, the colours (12) and, with the ray
-//    footprint, the patches made for it (460 while they are built).
+//  - the .glb after it: the sensor, the colours (12), the table from
+//    voxel to pixel (40) and the baked atlas (about two texels of 12
+//    bytes per surface voxel, and their PNG: 30).
 void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
     const Vec3i& r = frame.resolution;
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
@@ -270,7 +271,7 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
         const uint64_t sensorBytes = (patch ? 340 : 80) * S;
         const uint64_t renderBytes =
             sensorBytes + (Film::packedBytesPerPixel() + 70 + (lighttrace ? 208 : 0)) * S + 56 * atlasPixels;
-        const uint64_t glbBytes = sensorBytes + 12 * S + (patch ? 0 : 460 * S);
+        const uint64_t glbBytes = sensorBytes + (12 + 40 + 30) * S;
         return std::max(renderBytes, glbBytes);
     };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
