@@ -173,13 +173,20 @@ int renderCommand(const std::vector<std::string>& argv) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
-        writeSurfaceResultVdb(scene.worldFrame(), voxels, result.film, outputs[2]);
-        // The prediction on the model, once the film is no longer held.
-        std::vector<RGB> colors(voxels.size());
-        for (size_t p = 0; p < colors.size(); ++p) colors[p] = result.film.meanRGB(p);
+        // The film's means and errors, then the film let go before the
+        // result grid and the prediction on the model are made.
+        PixelResults results;
+        results.mean.resize(voxels.size());
+        results.standardError.resize(voxels.size());
+        for (size_t p = 0; p < voxels.size(); ++p) {
+            results.mean[p] = result.film.meanRGB(p);
+            results.standardError[p] = result.film.standardErrorRGB(p);
+        }
         result.film = Film();
+        writeSurfaceResultVdb(scene.worldFrame(), voxels, results, outputs[2]);
+        results.standardError = {};
         try {
-            writePredictionGlb(scene.geometry->mesh(), scene.worldFrame(), voxels, colors, outputs[3]);
+            writePredictionGlb(scene.geometry->mesh(), scene.worldFrame(), voxels, results.mean, outputs[3]);
         } catch (const GlbTooLarge& e) {
             std::fprintf(stderr, "printlight: warning: %s\n", e.what());
             outputs.pop_back();

@@ -1,8 +1,13 @@
 #include "integrators/lighttrace.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <unordered_set>
@@ -14,8 +19,9 @@ namespace pl {
 
 namespace {
 
-// Blocks are cut into this many parts, each traced by one thread into its
-// own tally and added in part order: the same bits whatever the threads.
+// Blocks are cut into this many parts, each traced by one thread into a
+// tally of its own and added in part order: the same bits whatever the
+// threads.
 constexpr size_t kBlockParts = 16;
 // Below this optical depth the transmittance to the surface is estimated
 // exactly; beyond it Russian roulette ends most connections early.
@@ -210,21 +216,43 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
     // What the block's parts share out: pixels (stratified) or particles.
     const uint64_t units = stratified ? sensor_.pixelCount()
                                       : std::max<uint64_t>(1, uint64_t(std::llround(particlesPerPixel * double(sensor_.pixelCount()))));
-    std::vector<ParticleTally> tallies(kBlockParts);
     const size_t pixels = block.score.size();
-    std::vector<PathStats> partStats(kBlockParts);
-    parallelForTiles(kBlockParts, 1, [&](size_t begin, size_t end) {
+    // Parts are handed out in order to as many workers as run at once, and
+    // each part's tally is added to the block as soon as the parts before
+    // it are: in part order (the same bits whatever the threads), with
+    // about one tally per worker alive instead of one per part.
+    std::atomic<size_t> nextPart{0};
+    std::mutex merging;
+    size_t nextToMerge = 0;
+    std::map<size_t, ParticleTally> finished;
+    auto mergeInOrder = [&](size_t part, ParticleTally tally, const PathStats& partStats) {
+        std::lock_guard<std::mutex> lock(merging);
+        stats += partStats;
+        finished.emplace(part, std::move(tally));
+        for (auto it = finished.find(nextToMerge); it != finished.end(); it = finished.find(++nextToMerge)) {
+            const ParticleTally& t = it->second;
+            for (size_t p = 0; p < pixels; ++p) {
+                block.score[p] += t.score[p];
+                block.scoreSq[p] += double(t.scoreSq[p]);
+            }
+            finished.erase(it);
+        }
+    };
+    const size_t workers = std::min<size_t>(kBlockParts, size_t(tbb::this_task_arena::max_concurrency()));
+    parallelForTiles(workers, 1, [&](size_t, size_t) {
         LabelMedium::Sampler medium(*scene_.medium, majorants_);
-        for (size_t part = begin; part < end; ++part) {
-            tallies[part].score.assign(pixels, 0.0);
-            tallies[part].scoreSq.assign(pixels, 0.0f);
+        for (size_t part = nextPart++; part < kBlockParts; part = nextPart++) {
+            ParticleTally tally;
+            tally.score.assign(pixels, 0.0);
+            tally.scoreSq.assign(pixels, 0.0f);
+            PathStats partStats;
             for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
                 if (interruptRequested()) return;
                 Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
                 if (!stratified) {
                     const SurfaceHit entry = entryOnMesh(rng);
-                    traceParticle(channel, entry, Le * kPi * meshArea_mm2_ / double(units), medium, rng, tallies[part],
-                                  partStats[part]);
+                    traceParticle(channel, entry, Le * kPi * meshArea_mm2_ / double(units), medium, rng, tally,
+                                  partStats);
                     continue;
                 }
                 if (patches_.area_mm2(i) == 0.0) continue;  // an empty patch: nothing enters there
@@ -235,20 +263,13 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
                     const auto x = patches_.sample(i, u0, u1);  // not empty (above)
-                    traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tallies[part],
-                                  partStats[part]);
+                    traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tally,
+                                  partStats);
                 }
             }
+            mergeInOrder(part, std::move(tally), partStats);
         }
     });
-    for (size_t part = 0; part < kBlockParts; ++part) {
-        const ParticleTally& t = tallies[part];
-        for (size_t p = 0; p < pixels && !t.score.empty(); ++p) {
-            block.score[p] += t.score[p];
-            block.scoreSq[p] += double(t.scoreSq[p]);
-        }
-        stats += partStats[part];
-    }
 }
 
 SurfaceHit LightTrace::entryOnMesh(Rng& rng) const {

@@ -416,7 +416,7 @@ void writeLabelGridVol(const LabelGrid& grid, const std::filesystem::path& file)
 }
 
 void writeSurfaceResultVdb(const GridFrame& frame, const std::vector<Vec3i>& voxels,
-                           const Film& film, const std::filesystem::path& file) {
+                           const PixelResults& results, const std::filesystem::path& file) {
     initializeVdb();
     auto radiance = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
     auto stderrGrid = openvdb::Vec3SGrid::create(openvdb::Vec3s(0.0f));
@@ -428,7 +428,8 @@ void writeSurfaceResultVdb(const GridFrame& frame, const std::vector<Vec3i>& vox
     auto ra = radiance->getAccessor();
     auto sa = stderrGrid->getAccessor();
     for (size_t i = 0; i < voxels.size(); ++i) {
-        RGB m = film.meanRGB(i), s = film.standardErrorRGB(i);
+        const RGB& m = results.mean[i];
+        const RGB& s = results.standardError[i];
         ra.setValueOn(toCoord(voxels[i]), openvdb::Vec3s(m[0], m[1], m[2]));
         sa.setValueOn(toCoord(voxels[i]), openvdb::Vec3s(s[0], s[1], s[2]));
     }

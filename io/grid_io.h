@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "compare/result_comparison.h"
 #include "core/film.h"
 #include "media/label_grid.h"
 #include "media/voxel_fields.h"
@@ -37,6 +38,6 @@ void writeLabelGridVol(const LabelGrid& grid, const std::filesystem::path& file)
 // Surface-voxel results at the voxels' own index coordinates, in the label
 // grid's transform: Vec3 grids "radiance" and "stderr".
 void writeSurfaceResultVdb(const GridFrame& frame, const std::vector<Vec3i>& voxels,
-                           const Film& film, const std::filesystem::path& file);
+                           const PixelResults& results, const std::filesystem::path& file);
 
 }  // namespace pl
