@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-#include <unordered_map>
 
 #include <tbb/parallel_for.h>
 
@@ -62,13 +61,13 @@ uint64_t keyOf(const Vec3i& v) {
            uint64_t(uint32_t(v.z) & 0x1fffff);
 }
 
-struct OwnedPiece {
-    uint32_t pixel;
-    SurfacePatches::Piece piece;
-};
+// A cell's part of a triangle: the pixel it is given to, how many pieces
+// it gives, and where the first goes in the pixels' pieces.
 struct CellOwner {
     Vec3i cell;
     uint32_t pixel;
+    uint32_t pieces;
+    uint64_t firstPiece;
 };
 
 }  // namespace
@@ -107,7 +106,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     const Vec3i& r = frame.resolution;
     if (mesh.triangleCount() >= (size_t(1) << 24) || double(r.x + 4) * (r.y + 4) * (r.z + 4) >= 0x1p40)
         throw std::runtime_error("the patch footprint takes at most 2^24 triangles and about 10^12 voxels");
-    std::unordered_map<uint64_t, uint32_t> pixelOf;
+    absl::flat_hash_map<uint64_t, uint32_t> pixelOf;
     pixelOf.reserve(voxels.size());
     for (size_t i = 0; i < voxels.size(); ++i) pixelOf.emplace(keyOf(voxels[i]), uint32_t(i));
     const Vec3f scale = frame.worldToCellScale(), offset = frame.worldToCellOffset();
@@ -141,7 +140,33 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     };
 
     const size_t triangles = mesh.triangleCount();
-    std::vector<std::vector<OwnedPiece>> perTriangle(triangles);
+    triangleNormal_.assign(triangles, Vec3f(0, 0, 0));
+    // Each cell's part of a triangle, fanned into pieces in millimetres
+    // (none of no area), with their total area and centroid.
+    auto fanOf = [&](size_t t, const Polygon& cellPoly, std::vector<Piece>& fan, double& area, Vec3f& centroid) {
+        Polygon w(cellPoly.size());
+        for (size_t i = 0; i < w.size(); ++i) w[i] = toWorld(cellPoly[i]);
+        fan.clear();
+        area = 0.0;
+        centroid = Vec3f(0, 0, 0);
+        for (size_t i = 1; i + 1 < w.size(); ++i) {
+            const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
+            if (!(pieceArea > 0.0f)) continue;
+            fan.push_back({w[0], w[i], w[i + 1], pieceArea, uint32_t(t)});
+            area += pieceArea;
+            centroid = centroid + (w[0] + w[i] + w[i + 1]) * (pieceArea / 3.0f);
+        }
+    };
+    auto cellPolygons = [&](size_t t, auto&& visit) {
+        const uint32_t* idx = &mesh.indices[3 * t];
+        const Point3f& a = mesh.positions_mm[idx[0]];
+        if (!(length(triangleNormal_[t]) > 0.0f)) return;
+        Polygon poly{toCell(a), toCell(mesh.positions_mm[idx[1]]), toCell(mesh.positions_mm[idx[2]])};
+        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, visit);
+    };
+    // Two passes over the cut, so that the pieces are held once: the
+    // first finds each cell's owner and how many pieces it gives it, the
+    // second (the same cut again) writes the pieces in their places.
     std::vector<std::vector<CellOwner>> cellOwners(triangles);
     std::vector<double> unassigned(triangles, 0.0);
     tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
@@ -149,43 +174,52 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         const Point3f& a = mesh.positions_mm[idx[0]];
         const Vec3f e = cross(mesh.positions_mm[idx[1]] - a, mesh.positions_mm[idx[2]] - a);
         if (!(length(e) > 0.0f)) return;
-        const Vec3f normal = normalize(e);
-        Polygon poly{toCell(a), toCell(mesh.positions_mm[idx[1]]), toCell(mesh.positions_mm[idx[2]])};
-        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, [&](const Vec3i& cell, const Polygon& cellPoly) {
-            // Fan the cut polygon into triangles, in millimetres.
-            Polygon w(cellPoly.size());
-            for (size_t i = 0; i < w.size(); ++i) w[i] = toWorld(cellPoly[i]);
-            double area = 0.0;
-            Vec3f centroid(0, 0, 0);
-            std::vector<Piece> fan;
-            for (size_t i = 1; i + 1 < w.size(); ++i) {
-                const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
-                if (!(pieceArea > 0.0f)) continue;
-                fan.push_back({w[0], w[i], w[i + 1], normal, pieceArea, uint32_t(t)});
-                area += pieceArea;
-                centroid = centroid + (w[0] + w[i] + w[i + 1]) * (pieceArea / 3.0f);
-            }
+        triangleNormal_[t] = normalize(e);
+        std::vector<Piece> fan;
+        cellPolygons(t, [&](const Vec3i& cell, const Polygon& cellPoly) {
+            double area;
+            Vec3f centroid;
+            fanOf(t, cellPoly, fan, area, centroid);
             if (fan.empty()) return;
             auto owner = ownerOf(centroid / float(area));
             if (!owner) {
                 unassigned[t] += area;
                 return;
             }
-            for (const Piece& p : fan) perTriangle[t].push_back({*owner, p});
-            cellOwners[t].push_back({cell, *owner});
+            cellOwners[t].push_back({cell, *owner, uint32_t(fan.size()), 0});
         });
     });
 
     // Group by pixel, in triangle order within a pixel (deterministic).
     std::vector<uint64_t> count(voxels.size() + 1, 0);
-    for (const auto& list : perTriangle)
-        for (const OwnedPiece& o : list) count[o.pixel + 1] += 1;
+    for (const auto& list : cellOwners)
+        for (const CellOwner& o : list) count[o.pixel + 1] += o.pieces;
     for (size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
     first_ = count;
+    count = {};
     pieces_.resize(first_.back());
     std::vector<uint64_t> next(first_.begin(), first_.end() - 1);
-    for (const auto& list : perTriangle)
-        for (const OwnedPiece& o : list) pieces_[next[o.pixel]++] = o.piece;
+    for (auto& list : cellOwners)
+        for (CellOwner& o : list) {
+            o.firstPiece = next[o.pixel];
+            next[o.pixel] += o.pieces;
+        }
+    next = {};
+    tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
+        // The cells come in the first pass's order; those it gave no owner
+        // (or no pieces) are not in the list.
+        size_t k = 0;
+        const std::vector<CellOwner>& owners = cellOwners[t];
+        std::vector<Piece> fan;
+        cellPolygons(t, [&](const Vec3i& cell, const Polygon& cellPoly) {
+            if (k == owners.size() || owners[k].cell != cell) return;
+            double area;
+            Vec3f centroid;
+            fanOf(t, cellPoly, fan, area, centroid);
+            std::copy(fan.begin(), fan.end(), pieces_.begin() + std::ptrdiff_t(owners[k].firstPiece));
+            ++k;
+        });
+    });
     area_mm2_.assign(voxels.size(), 0.0);
     for (size_t i = 0; i < voxels.size(); ++i) {
         for (const Piece* p = begin(i); p != end(i); ++p) area_mm2_[i] += p->area_mm2;
@@ -225,7 +259,7 @@ std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, f
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);
     const TriangleSample bary = sampleUniformTriangle(v0, u1);
     const Point3f x = p->a * bary.b0 + p->b * bary.b1 + p->c * bary.b2;
-    return PatchPoint{x, p->normal, p->prim};
+    return PatchPoint{x, triangleNormal_[p->prim], p->prim};
 }
 
 }  // namespace pl

@@ -29,10 +29,11 @@ public:
 
     struct Piece {
         Point3f a, b, c;
-        Vec3f normal;  // outward, of the mesh triangle it was cut from
         float area_mm2;
-        uint32_t prim;  // that triangle
+        uint32_t prim;  // the mesh triangle it was cut from
     };
+    // The outward normal of a piece: its triangle's.
+    const Vec3f& normal(const Piece& piece) const { return triangleNormal_[piece.prim]; }
     // Pixel i's pieces, and its patch's area (0: no piece).
     const Piece* begin(size_t pixel) const { return pieces_.data() + first_[pixel]; }
     const Piece* end(size_t pixel) const { return pieces_.data() + first_[pixel + 1]; }
@@ -80,6 +81,7 @@ private:
     std::vector<uint16_t> cellInBrick_;
     std::vector<uint32_t> ownerOfCell_;
     std::vector<Piece> pieces_;  // grouped by pixel
+    std::vector<Vec3f> triangleNormal_;
     std::vector<uint64_t> first_;
     std::vector<double> area_mm2_;
     double unassignedArea_mm2_ = 0;

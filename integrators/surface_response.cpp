@@ -58,7 +58,7 @@ SurfacePoint surfacePointOf(const SurfaceVoxelSensor& surface, size_t i) {
         Vec3f n(0, 0, 0);
         for (const SurfacePatches::Piece* piece = patches.begin(i); piece != patches.end(i); ++piece) {
             weighted += (piece->a + piece->b + piece->c) * (piece->area_mm2 / 3.0f);
-            n += piece->normal * piece->area_mm2;
+            n += patches.normal(*piece) * piece->area_mm2;
         }
         e.p = weighted / e.area_mm2;
         if (length(n) > 0) e.normal = normalize(n);

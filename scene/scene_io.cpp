@@ -1,5 +1,7 @@
 #include "scene/scene_io.h"
 
+#include <tbb/global_control.h>
+
 #include <cmath>
 
 #include "core/film.h"
@@ -256,10 +258,11 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 // larger of its two stages, per surface voxel (measured on the 10 mm
 // greek cube, docs/performance.md "Tray-sized models"):
 //  - the render: the sensor (80 bytes; with the patch footprint its
-//    patches, 340), the film (Film::packedBytesPerPixel, 216), the result
-//    grid (70), lighttrace's light tallies (16 parts of a double score
-//    and a float square, and the block's two doubles: 208), and 56 bytes
-//    per atlas pixel for the images;
+//    patches, 180), the film (Film::packedBytesPerPixel, 216), the result
+//    grid (70), lighttrace's light tallies (a double score and a float
+//    square for each part of a block being traced, about one per thread,
+//    and the block's two doubles), and 56 bytes per atlas pixel for the
+//    images;
 //  - the .glb after it: the sensor, the colours (12), the table from
 //    voxel to pixel (40) and the baked atlas (about two texels of 12
 //    bytes per surface voxel, and their PNG: 30).
@@ -268,9 +271,12 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
     const uint64_t S = surfaceVoxels;
     auto peakBytes = [&](bool patch, bool lighttrace) {
-        const uint64_t sensorBytes = (patch ? 340 : 80) * S;
+        const uint64_t sensorBytes = (patch ? 180 : 80) * S;
+        const uint64_t threads = std::min<uint64_t>(
+            16, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+        const uint64_t tallyBytes = lighttrace ? 16 + 12 * (threads + 1) : 0;
         const uint64_t renderBytes =
-            sensorBytes + (Film::packedBytesPerPixel() + 70 + (lighttrace ? 208 : 0)) * S + 56 * atlasPixels;
+            sensorBytes + (Film::packedBytesPerPixel() + 70 + tallyBytes) * S + 56 * atlasPixels;
         const uint64_t glbBytes = sensorBytes + (12 + 40 + 30) * S;
         return std::max(renderBytes, glbBytes);
     };
