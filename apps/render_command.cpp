@@ -129,21 +129,26 @@ int renderCommand(const std::vector<std::string>& argv) {
     desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
     // The images, with how they were made; written after each round of a
     // progressive render too (each write complete: io/output_file.h).
-    auto writeImages = [&](const RenderResult& r, uint32_t spp) {
+    auto imageOf = [&](const RenderResult& r, uint32_t spp) {
         RadianceImage image = filmToImage(r.film, *sensor);
         image.metadata = {{"scene", desc.sceneFile.string()},  {"integrator", desc.render.integrator},
                           {"sensor", desc.sensor.type},        {"spp", std::to_string(spp)},
                           {"seed", std::to_string(desc.render.seed)}, {"channels", channelNames(desc.render.channels)},
                           {"channel_sampling", channelSamplingName(desc.render.channelSampling)}};
+        return image;
+    };
+    auto writeImage = [&](const RadianceImage& image) {
         writeExr(image, outputs[0]);
         writePng(image, outputs[1]);
     };
+    auto writeImages = [&](const RenderResult& r, uint32_t spp) { writeImage(imageOf(r, spp)); };
     // Across MPI ranks each renders its share of the pixels and rank 0
     // gathers, writes and speaks.
     const bool acrossRanks = ranks > 1;
     RenderResult result;
     uint32_t sppDone = desc.render.spp;
     std::string stopped;
+    std::optional<RadianceImage> image;  // written once the film is let go
     if (progressive) {
         ProgressiveRender p = renderProgressively(scene, *sensor, desc.render, writeImages, acrossRanks);
         if (rank != 0) return 0;
@@ -156,7 +161,7 @@ int renderCommand(const std::vector<std::string>& argv) {
     } else {
         result = render(scene, *sensor, desc.render, acrossRanks);
         if (rank != 0) return 0;
-        writeImages(result, sppDone);
+        image = imageOf(result, sppDone);
     }
     if (acrossRanks) {
         stopped += ", " + std::to_string(ranks) + " MPI ranks";
@@ -169,20 +174,25 @@ int renderCommand(const std::vector<std::string>& argv) {
         }
     }
     const std::string controls = controlSummary(result);  // before the film is let go (below)
+    // The film's means and errors for the surface's outputs; then the film
+    // is let go before the image, the result grid and the prediction on
+    // the model are written.
+    PixelResults results;
+    if (surface) {
+        results.mean.resize(sensor->pixelCount());
+        results.standardError.resize(sensor->pixelCount());
+        for (size_t p = 0; p < sensor->pixelCount(); ++p) {
+            results.mean[p] = result.film.meanRGB(p);
+            results.standardError[p] = result.film.standardErrorRGB(p);
+        }
+    }
+    result.film = Film();
+    if (image) writeImage(*image);
+    image.reset();
     if (surface) {
         std::vector<Vec3i> voxels;
         for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
             voxels.push_back(px.voxel);
-        // The film's means and errors, then the film let go before the
-        // result grid and the prediction on the model are made.
-        PixelResults results;
-        results.mean.resize(voxels.size());
-        results.standardError.resize(voxels.size());
-        for (size_t p = 0; p < voxels.size(); ++p) {
-            results.mean[p] = result.film.meanRGB(p);
-            results.standardError[p] = result.film.standardErrorRGB(p);
-        }
-        result.film = Film();
         writeSurfaceResultVdb(scene.worldFrame(), voxels, results, outputs[2]);
         results.standardError = {};
         try {
