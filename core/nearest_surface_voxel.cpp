@@ -16,10 +16,12 @@ void NearestSurfaceVoxel::search(const Point3f& x_mm, const Vec3i& centre, const
         for (int dy = -reach.y; dy <= reach.y; ++dy)
             for (int dx = -reach.x; dx <= reach.x; ++dx) {
                 const Vec3i v{centre.x + dx, centre.y + dy, centre.z + dz};
-                auto it = pixelOf_.find(key(v));
-                if (it == pixelOf_.end()) continue;
                 const Vec3f d = frame_.voxelCenter_mm(v) - x_mm;
                 const float d2 = dot(d, d);
+                // A cell farther than the best so far needs no look-up.
+                if (d2 > best_mm2) continue;
+                auto it = pixelOf_.find(key(v));
+                if (it == pixelOf_.end()) continue;
                 if (d2 < best_mm2 || (d2 == best_mm2 && best && it->second < *best)) best_mm2 = d2, best = it->second;
             }
 }
