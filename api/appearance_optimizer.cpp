@@ -12,6 +12,8 @@
 
 #include "compare/color_difference.h"
 #include "compare/surface_colour_error.h"
+#include "media/label_grid.h"
+#include "media/voxel_int_grid.h"
 #include "prepare/halftone.h"
 #include "scene/registry.h"
 
@@ -31,29 +33,29 @@ struct DenseIndex {
 
 // Each object voxel within depth_mm of a surface voxel gets the index of
 // its nearest surface voxel (multi-source breadth-first search over face
-// neighbours through the object), -1 elsewhere.
-std::vector<int32_t> shellOwners(const std::vector<Label>& labels, Label voidLabel, const GridFrame& frame,
-                                 const std::vector<Vec3i>& surface, float depth_mm) {
-    DenseIndex at{frame.resolution};
-    std::vector<int32_t> owner(labels.size(), -1);
+// neighbours through the object); the rest are not set (-1). Sparse: the
+// shell, not the grid.
+VoxelIntGrid shellOwners(const LabelGrid& labels, const std::vector<Vec3i>& surface, float depth_mm) {
+    const GridFrame& frame = labels.frame();
+    const LabelReader label(labels);
+    VoxelIntGrid owner(-1);
     std::deque<Vec3i> queue;
     for (size_t s = 0; s < surface.size(); ++s) {
-        Vec3i v = surface[s] - frame.indexMin;
-        owner[at(v)] = int32_t(s);
-        queue.push_back(v);
+        owner.set(surface[s], int32_t(s));
+        queue.push_back(surface[s]);
     }
     const Vec3f& h = frame.voxelSize_mm;
     while (!queue.empty()) {
-        Vec3i v = queue.front();
+        const Vec3i v = queue.front();
         queue.pop_front();
-        const int32_t o = owner[at(v)];
-        const Vec3i src = surface[size_t(o)] - frame.indexMin;
+        const int32_t o = owner.get(v);
+        const Vec3i& src = surface[size_t(o)];
         for (const Vec3i& d : kFaceDirections) {
-            Vec3i n = v + d;
-            if (!at.contains(n) || owner[at(n)] >= 0 || labels[at(n)] == voidLabel) continue;
+            const Vec3i n = v + d;
+            if (!frame.contains(n) || owner.get(n) >= 0 || label.at(n) == labels.voidLabel()) continue;
             Vec3f off{(n.x - src.x) * h.x, (n.y - src.y) * h.y, (n.z - src.z) * h.z};
             if (length(off) > depth_mm) continue;
-            owner[at(n)] = o;
+            owner.set(n, o);
             queue.push_back(n);
         }
     }
@@ -62,21 +64,24 @@ std::vector<int32_t> shellOwners(const std::vector<Label>& labels, Label voidLab
 
 // Halftones the shell: the mixture each voxel's owner asks for, vector
 // error diffusion slice by slice; returns the changes against `labels`.
-std::vector<LabelGrid::Change> halftoneShell(const std::vector<Label>& labels, const GridFrame& frame,
-                                             const std::vector<int32_t>& owner,
+std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const VoxelIntGrid& owner,
                                              const std::vector<MaterialFractions>& mixtures) {
+    const GridFrame& frame = labels.frame();
     const DenseIndex at{frame.resolution};
+    const LabelReader label(labels);
     std::vector<LabelGrid::Change> changes;
     halftoneFrame(
         frame.resolution,
         [&](size_t i, MaterialFractions& f) {
-            if (owner[i] < 0) return false;
-            f = mixtures[size_t(owner[i])];
+            const int32_t o = owner.get(frame.indexMin + at.voxel(i));
+            if (o < 0) return false;
+            f = mixtures[size_t(o)];
             return true;
         },
         [&](size_t i, int material) {
             const Label l = kPrintMaterialLabel[material];
-            if (l != labels[i]) changes.push_back({frame.indexMin + at.voxel(i), l});
+            const Vec3i v = frame.indexMin + at.voxel(i);
+            if (l != label.at(v)) changes.push_back({v, l});
         });
     return changes;
 }
@@ -185,8 +190,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const auto loopStart = Clock::now();
     const GridFrame frame = predictor.labels().frame();
     const RGB environment = predictor.environment();
-    const std::vector<Label> given = predictor.labels().toDense();
-    std::vector<Label> labels = given;
+    const LabelGrid given = predictor.labels().withChanges({});
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
 
@@ -205,8 +209,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     SurfacePrediction p = predictor.predict();
     const size_t n = p.voxels.size();
     if (targets.size() != n) throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
-    const std::vector<int32_t> owner =
-        shellOwners(labels, predictor.labels().voidLabel(), frame, p.voxels, settings.shellDepth_mm);
+    const VoxelIntGrid owner = shellOwners(predictor.labels(), p.voxels, settings.shellDepth_mm);
     const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
     const SurfaceGaussian eye(points_mm, kEyeFootprint_mm);
     std::optional<SurfaceGaussian> ownUpdateFilter;
@@ -374,8 +377,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             });
             it.outsideShare = double(std::count(outside.begin(), outside.end(), uint8_t(1))) / double(n);
         }
-        std::vector<LabelGrid::Change> changes = halftoneShell(labels, frame, owner, mixture);
-        for (const auto& c : changes) labels[DenseIndex{frame.resolution}(c.voxel - frame.indexMin)] = c.label;
+        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, mixture);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -401,11 +403,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     if (result.bestIteration != result.iterations.back().iteration) {
         std::vector<LabelGrid::Change> changes;
         if (result.bestIteration == 0) {
-            const DenseIndex at{frame.resolution};
-            for (size_t i = 0; i < labels.size(); ++i)
-                if (labels[i] != given[i]) changes.push_back({frame.indexMin + at.voxel(i), given[i]});
+            // The loop changes the shell alone.
+            const LabelReader now(predictor.labels()), before(given);
+            owner.forEachSet([&](const Vec3i& v, int32_t) {
+                if (now.at(v) != before.at(v)) changes.push_back({v, before.at(v)});
+            });
         } else {
-            changes = halftoneShell(labels, frame, owner, bestMixture);
+            changes = halftoneShell(predictor.labels(), owner, bestMixture);
         }
         predictor.changeLabels(changes);
     }

@@ -68,6 +68,20 @@ Label LabelGrid::label(const Vec3i& v) const {
     return tree_->vdb->getValue(toCoord(v));
 }
 
+struct LabelReader::Impl {
+    const LabelGrid& grid;
+    openvdb::tree::ValueAccessor<const LabelTreeType> accessor;
+    explicit Impl(const LabelGrid& g) : grid(g), accessor(*g.tree().vdb) {}
+};
+
+LabelReader::LabelReader(const LabelGrid& grid) : impl_(std::make_unique<Impl>(grid)) {}
+LabelReader::~LabelReader() = default;
+
+Label LabelReader::at(const Vec3i& v) const {
+    if (!impl_->grid.frame().contains(v)) return impl_->grid.voidLabel();
+    return impl_->accessor.getValue(toCoord(v));
+}
+
 std::vector<Label> LabelGrid::toDense() const {
     const Vec3i& r = frame_.resolution;
     std::vector<Label> out(frame_.voxelCount(), voidLabel_);

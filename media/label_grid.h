@@ -79,6 +79,20 @@ private:
     std::shared_ptr<Tree> tree_;
 };
 
+// A label grid read through a cached accessor: fast where reads stay near
+// each other. One thread at a time; the grid must outlive it unchanged.
+class LabelReader {
+public:
+    explicit LabelReader(const LabelGrid& grid);
+    ~LabelReader();
+    // Void outside the frame, as LabelGrid::label.
+    Label at(const Vec3i& v) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 // Builds a label grid voxel by voxel (single thread), collapsing uniform
 // blocks into tiles as it goes.
 class LabelGridBuilder {

@@ -6,6 +6,7 @@
 
 #include "core/rng.h"
 #include "io/grid_io.h"
+#include "media/voxel_int_grid.h"
 #include "io/input_error.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
@@ -269,4 +270,35 @@ TEST(MaterialsIo, ValidatesCoefficients) {
 }
 
 }  // namespace
+}  // namespace pl
+
+
+namespace pl {
+// Sparse integers on voxels: what was set reads back, the rest is the
+// background, every voxel set is visited once, and the memory follows the
+// voxels set, not the volume they span (the optimisation loop's shell).
+TEST(VoxelIntGrid, HoldsWhatWasSetSparsely) {
+    VoxelIntGrid grid(-1);
+    std::vector<Vec3i> set;
+    for (int k = 0; k < 1000; ++k) set.push_back({k * 997 % 1000, k * 7919 % 1000, k * 104729 % 1000});
+    for (size_t k = 0; k < set.size(); ++k) grid.set(set[k], int32_t(k));
+    for (size_t k = 0; k < set.size(); ++k) EXPECT_EQ(grid.get(set[k]), int32_t(k));
+    EXPECT_EQ(grid.get({5, 5, 6}), -1);
+    EXPECT_EQ(grid.setCount(), set.size());
+    size_t visited = 0;
+    grid.forEachSet([&](const Vec3i& v, int32_t k) {
+        EXPECT_EQ(set[size_t(k)], v);
+        ++visited;
+    });
+    EXPECT_EQ(visited, set.size());
+    // A box's surface, 300 voxels a side: a quarter of its dense volume at most.
+    VoxelIntGrid shell(-1);
+    const int n = 300;
+    for (int z = 0; z < n; ++z)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                if (x == 0 || y == 0 || z == 0 || x == n - 1 || y == n - 1 || z == n - 1) shell.set({x, y, z}, 1);
+    EXPECT_LT(shell.memoryBytes(), uint64_t(n) * n * n * 4 / 4);
+}
+
 }  // namespace pl
