@@ -26,8 +26,10 @@ public:
     // texel_mm()) where the atlas would pass mostSide texels a side.
     TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostSide = kMostSide);
 
-    // WebGL's common limit on a texture's side.
-    static constexpr int kMostSide = 8192;
+    // A texture side every WebGL device takes, and more texels than a
+    // screen shows of a whole object: past it a finer atlas only slows
+    // the page (the .vdb and .exr keep every voxel).
+    static constexpr int kMostSide = 4096;
     static constexpr float kFilledTexels = 1.5f;
 
     int width() const { return width_; }
