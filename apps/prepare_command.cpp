@@ -55,8 +55,8 @@ int prepareCommand(const std::vector<std::string>& argv) {
                     {"--materials", "FILE",
                      "the material table (default with --scene-out: the bundled one, written beside the scenes)"},
                     {"--mixing", "gamut|simple",
-                     "how a colour becomes a mixture of the resins: the printer's characterisation of --materials "
-                     "(default with --materials; made on first use) or a simple subtractive model"},
+                     "how a colour becomes a mixture of the resins: the printer's characterisation of the material "
+                     "table (default with --materials or --scene-out; made on first use) or a simple subtractive model"},
                     {"--gamut", "FILE", "the printer's characterisation for --mixing gamut (default: the material table's)"},
                     {"--halftone", "error-diffusion|nearest", "how a mixture becomes resin labels"},
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
@@ -123,15 +123,23 @@ int prepareCommand(const std::vector<std::string>& argv) {
                 for (const auto& f : *files) std::filesystem::remove(f, ec);
         }
     } bundledGuard{&bundledCopies};
+    bool bundledTable = false;
     if (sceneOut && !args.has("--materials")) {
+        // A table already there (an earlier prepare's, or the user's own
+        // edit of it) is used as it stands, never overwritten.
         materialsFile = sceneOut->string() + "_materials.json";
         const std::filesystem::path gamutFile = sceneOut->string() + "_materials.gamut.json";
-        refuseToOverwriteInputs(*materialsFile, {model});
-        refuseToOverwriteInputs(gamutFile, {model});
-        writeTextFile(*materialsFile, bundledMaterialTable());
-        bundledCopies.push_back(*materialsFile);
-        writeTextFile(gamutFile, bundledPrinterGamut());
-        bundledCopies.push_back(gamutFile);
+        if (!std::filesystem::exists(*materialsFile)) {
+            refuseToOverwriteInputs(*materialsFile, {model});
+            writeTextFile(*materialsFile, bundledMaterialTable());
+            bundledCopies.push_back(*materialsFile);
+            bundledTable = true;
+            if (!std::filesystem::exists(gamutFile)) {
+                refuseToOverwriteInputs(gamutFile, {model});
+                writeTextFile(gamutFile, bundledPrinterGamut());
+                bundledCopies.push_back(gamutFile);
+            }
+        }
     }
     if (auto m = args.value("--materials")) materialsFile = *m;
     if (materialsFile) {
@@ -261,9 +269,11 @@ int prepareCommand(const std::vector<std::string>& argv) {
     double dense = double(f.voxelCount()) * 16.0;
     std::printf("prepare: %s: %s\n", model.string().c_str(), size);
     std::printf("  model:     %zu triangles, colour from %s\n", mesh.triangleCount(), prepared.colorSource.c_str());
-    if (!bundledCopies.empty())
+    if (bundledTable)
         std::printf("  materials: the bundled table (%s; no --materials), written to %s\n", kBundledMaterialName,
                     materialsFile->string().c_str());
+    else if (sceneOut && !args.has("--materials"))
+        std::printf("  materials: %s (there already; no --materials)\n", materialsFile->string().c_str());
     std::printf("  mixtures:  %s\n", mixingSource.c_str());
     if (repair) std::printf("  repaired:  %s\n", repaired.text().c_str());
     std::printf("  grid:      %d x %d x %d = %llu voxels of %.4g x %.4g x %.4g mm\n", r.x, r.y, r.z,

@@ -216,6 +216,8 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
             double area;
             Vec3f centroid;
             fanOf(t, cellPoly, fan, area, centroid);
+            // The same cut as the first pass's, so the same pieces.
+            if (fan.size() != owners[k].pieces) throw std::logic_error("SurfacePatches: the second cut differs");
             std::copy(fan.begin(), fan.end(), pieces_.begin() + std::ptrdiff_t(owners[k].firstPiece));
             ++k;
         });

@@ -54,8 +54,8 @@ std::array<float, 3> nearestBarycentric(const std::array<Flat, 3>& t, const Flat
 
 }  // namespace
 
-TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostSide)
-    : mesh_(mesh), charts_(mesh.triangleCount()), texel_mm_(texel_mm) {
+TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostSide_texels)
+    : charts_(mesh.triangleCount()), texel_mm_(texel_mm) {
     // Each triangle flat at true scale, its longest edge along the bottom
     // (so the third corner lies above that edge).
     for (size_t t = 0; t < charts_.size(); ++t) {
@@ -76,9 +76,15 @@ TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostS
         c.flat = {Flat{0, 0}, Flat{longest_mm, 0}, Flat{s, up}};
     }
     // Shelves of rectangles, tallest first; the texel grows until the atlas
-    // fits mostSide.
+    // fits mostSide_texels, or, for meshes of so many triangles that their
+    // gutters alone do not fit it, until it is about as small as their
+    // gutters allow (a side past mostSide_texels).
+    double leastArea = 0;
+    for (const Chart& c : charts_)
+        leastArea += double((c.flat[1][0] > 0 ? 1 : 0) + 2 * kGutter) * double((c.flat[2][1] > 0 ? 1 : 0) + 2 * kGutter);
+    const int most = std::max(mostSide_texels, int(std::ceil(std::sqrt(leastArea * 1.3))));
     std::vector<uint32_t> order(charts_.size());
-    for (;;) {
+    for (int attempt = 0;; ++attempt) {
         double area = 0;
         int widest = 1;
         for (Chart& c : charts_) {
@@ -99,8 +105,8 @@ TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostS
             shelf = std::max(shelf, c.h);
         }
         height_ = std::max(1, y + shelf);
-        if (std::max(width_, height_) <= mostSide) break;
-        texel_mm_ *= 1.05f * float(std::max(width_, height_)) / float(mostSide);
+        if (std::max(width_, height_) <= most || attempt == 64) break;
+        texel_mm_ *= 1.05f * float(std::max(width_, height_)) / float(most);
     }
     for (Chart& c : charts_) {
         for (Flat& p : c.flat) p = {p[0] / texel_mm_, p[1] / texel_mm_};
@@ -110,20 +116,21 @@ TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostS
     }
 }
 
-std::vector<RGB> TriangleAtlas::bake(const std::function<RGB(uint32_t, const Point3f&)>& colorAt) const {
+std::vector<RGB> TriangleAtlas::bake(const TriangleMesh& mesh,
+                                     const std::function<RGB(uint32_t, const Point3f&)>& colorAt) const {
     std::vector<RGB> image(size_t(width_) * size_t(height_), RGB{0, 0, 0});
-    const float most2 = kFilledTexels * kFilledTexels;
+    const float filled2_texels2 = kFilledTexels * kFilledTexels;
     // Rectangles do not overlap: each texel is written once.
     tbb::parallel_for(size_t(0), charts_.size(), [&](size_t t) {
         const Chart& c = charts_[t];
-        const Point3f p[3] = {mesh_.positions_mm[c.corner[0]], mesh_.positions_mm[c.corner[1]],
-                              mesh_.positions_mm[c.corner[2]]};
+        const Point3f p[3] = {mesh.positions_mm[c.corner[0]], mesh.positions_mm[c.corner[1]],
+                              mesh.positions_mm[c.corner[2]]};
         for (int j = 0; j < c.h; ++j)
             for (int i = 0; i < c.w; ++i) {
                 const Flat q{float(i) + 0.5f - float(kGutter), float(j) + 0.5f - float(kGutter)};
                 float distance2;
                 const std::array<float, 3> b = nearestBarycentric(c.flat, q, distance2);
-                if (distance2 > most2) continue;
+                if (distance2 > filled2_texels2) continue;
                 const Point3f x = p[0] * b[0] + p[1] * b[1] + p[2] * b[2];
                 image[size_t(c.y + j) * size_t(width_) + size_t(c.x + i)] = colorAt(uint32_t(t), x);
             }

@@ -23,13 +23,13 @@ namespace pl {
 class TriangleAtlas {
 public:
     // texel_mm: the texel's side on the surface; grown (and said by
-    // texel_mm()) where the atlas would pass mostSide texels a side.
-    TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostSide = kMostSide);
+    // texel_mm()) where the atlas would pass mostSide_texels a side.
+    TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostSide_texels = kMostSide_texels);
 
     // A texture side every WebGL device takes, and more texels than a
     // screen shows of a whole object: past it a finer atlas only slows
     // the page (the .vdb and .exr keep every voxel).
-    static constexpr int kMostSide = 4096;
+    static constexpr int kMostSide_texels = 4096;
     static constexpr float kFilledTexels = 1.5f;
 
     int width() const { return width_; }
@@ -40,20 +40,20 @@ public:
     const std::array<std::array<float, 2>, 3>& uv(size_t triangle) const { return charts_[triangle].uv; }
 
     // The image (row-major, top row first): colorAt(triangle, point on it)
-    // for each filled texel, black elsewhere. Rows in parallel; the same
-    // bits whatever the threads.
-    std::vector<RGB> bake(const std::function<RGB(uint32_t, const Point3f&)>& colorAt) const;
+    // for each filled texel, black elsewhere; mesh: the atlas's own.
+    // Triangles in parallel; the same bits whatever the threads.
+    std::vector<RGB> bake(const TriangleMesh& mesh, const std::function<RGB(uint32_t, const Point3f&)>& colorAt) const;
 
 private:
     struct Chart {
-        // The triangle flat in texel units: corners 0, 1 on the bottom edge.
+        // The triangle flat (millimetres while the layout is made, texels
+        // after): corners 0, 1 on the bottom edge.
         std::array<std::array<float, 2>, 3> flat;
         int x = 0, y = 0, w = 0, h = 0;  // the rectangle in the atlas
         std::array<std::array<float, 2>, 3> uv;  // the mesh's corner order
         std::array<uint32_t, 3> corner;  // mesh vertex of each flat corner
         int first = 0;                   // the mesh's corner laid first
     };
-    const TriangleMesh& mesh_;
     std::vector<Chart> charts_;
     int width_ = 0, height_ = 0;
     float texel_mm_;

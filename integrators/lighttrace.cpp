@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <condition_variable>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -19,10 +20,6 @@ namespace pl {
 
 namespace {
 
-// Blocks are cut into this many parts, each traced by one thread into a
-// tally of its own and added in part order: the same bits whatever the
-// threads.
-constexpr size_t kBlockParts = 16;
 // Below this optical depth the transmittance to the surface is estimated
 // exactly; beyond it Russian roulette ends most connections early.
 constexpr float kConnectionRouletteDepth = 2.0f;
@@ -189,6 +186,12 @@ ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMe
     return sample;
 }
 
+size_t LightTrace::blockWorkers() {
+    return std::min<size_t>(kBlockParts, size_t(tbb::this_task_arena::max_concurrency()));
+}
+
+size_t LightTrace::mostTalliesAlive() { return std::min<size_t>(kBlockParts, 2 * blockWorkers()); }
+
 void LightTrace::ParticleTally::endParticle() {
     // Each pixel's whole score from the particle, squared.
     std::sort(particle.begin(), particle.end());
@@ -219,11 +222,14 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
     const size_t pixels = block.score.size();
     // Parts are handed out in order to as many workers as run at once, and
     // each part's tally is added to the block as soon as the parts before
-    // it are: in part order (the same bits whatever the threads), with
-    // about one tally per worker alive instead of one per part.
+    // it are: in part order (the same bits whatever the threads). A part
+    // starts only within mostTalliesAlive() of the next to be added, so
+    // that many tallies at most are alive whatever a slow part holds up.
     std::atomic<size_t> nextPart{0};
     std::mutex merging;
+    std::condition_variable merged;
     size_t nextToMerge = 0;
+    bool stopped = false;
     std::map<size_t, ParticleTally> finished;
     auto mergeInOrder = [&](size_t part, ParticleTally tally, const PathStats& partStats) {
         std::lock_guard<std::mutex> lock(merging);
@@ -237,17 +243,31 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
             }
             finished.erase(it);
         }
+        merged.notify_all();
     };
-    const size_t workers = std::min<size_t>(kBlockParts, size_t(tbb::this_task_arena::max_concurrency()));
-    parallelForTiles(workers, 1, [&](size_t, size_t) {
+    const size_t alive = mostTalliesAlive();
+    parallelForTiles(blockWorkers(), 1, [&](size_t, size_t) {
         LabelMedium::Sampler medium(*scene_.medium, majorants_);
         for (size_t part = nextPart++; part < kBlockParts; part = nextPart++) {
+            {
+                // The parts before this one hold no thread waiting here (the
+                // earliest waiting part's predecessors are all running), so
+                // this wait ends.
+                std::unique_lock<std::mutex> lock(merging);
+                merged.wait(lock, [&] { return stopped || part < nextToMerge + alive; });
+                if (stopped) return;
+            }
             ParticleTally tally;
             tally.score.assign(pixels, 0.0);
             tally.scoreSq.assign(pixels, 0.0f);
             PathStats partStats;
             for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
-                if (interruptRequested()) return;
+                if (interruptRequested()) {
+                    std::lock_guard<std::mutex> lock(merging);
+                    stopped = true;
+                    merged.notify_all();
+                    return;
+                }
                 Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
                 if (!stratified) {
                     const SurfaceHit entry = entryOnMesh(rng);

@@ -91,6 +91,13 @@ public:
     static constexpr float kMinPatchFraction = 0.25f;
     // Pixels the light side leaves to printpt, in a channel.
     size_t cameraOnlyPixels(int channel) const;
+    // A block's particles are cut into this many parts, each traced by one
+    // thread into a tally of its own (a double score and a float square a
+    // pixel) and added in part order: the same bits whatever the threads.
+    static constexpr size_t kBlockParts = 16;
+    // The threads a block is traced with, and the most tallies alive at once.
+    static size_t blockWorkers();
+    static size_t mostTalliesAlive();
 
 private:
     // One part of a block's particles, traced by one thread: their scores

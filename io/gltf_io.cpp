@@ -385,14 +385,24 @@ void writePredictionGlb(const TriangleMesh& mesh_mm, const GridFrame& frame, con
     using nlohmann::json;
     // Texels of the voxel's middle side: the colours change from voxel to
     // voxel, and the eye's footprint spans several.
-    std::array<float, 3> sides{frame.voxelSize_mm.x, frame.voxelSize_mm.y, frame.voxelSize_mm.z};
-    std::sort(sides.begin(), sides.end());
-    const TriangleAtlas atlas(mesh_mm, sides[1]);
+    if (linearColor.size() != voxels.size())
+        throw std::invalid_argument("writePredictionGlb: one colour per surface voxel is needed");
+    std::array<float, 3> sides_mm{frame.voxelSize_mm.x, frame.voxelSize_mm.y, frame.voxelSize_mm.z};
+    std::sort(sides_mm.begin(), sides_mm.end());
+    const TriangleAtlas atlas(mesh_mm, sides_mm[1]);
+    // WebGL 2's largest textures; a mesh of more triangles than their
+    // gutters fit in it (some 10 million) has no atlas.
+    constexpr int kMostTextureSide_texels = 16384;
+    if (std::max(atlas.width(), atlas.height()) > kMostTextureSide_texels)
+        throw GlbTooLarge("the prediction on the model: " + std::to_string(mesh_mm.triangleCount()) +
+                          " triangles need a texture of " + std::to_string(atlas.width()) + " x " +
+                          std::to_string(atlas.height()) + " texels: " + file.string() +
+                          " is not written (the .exr and .vdb hold the prediction)");
     const NearestSurfaceVoxel nearest(frame, voxels);
     Texture texture;
     texture.width = atlas.width();
     texture.height = atlas.height();
-    texture.linear = atlas.bake([&](uint32_t, const Point3f& x_mm) {
+    texture.linear = atlas.bake(mesh_mm, [&](uint32_t, const Point3f& x_mm) {
         const std::optional<uint32_t> pixel = nearest.at(x_mm);
         return pixel ? linearColor[*pixel] : RGB{0, 0, 0};
     });

@@ -1,10 +1,9 @@
 #include "scene/scene_io.h"
 
-#include <tbb/global_control.h>
-
 #include <cmath>
 
 #include "core/film.h"
+#include "integrators/lighttrace.h"
 #include "runtime/memory_budget.h"
 #include "scene/homogeneous_core.h"
 #include "scene/registry.h"
@@ -259,10 +258,9 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 // greek cube, docs/performance.md "Tray-sized models"):
 //  - the render: the sensor (80 bytes; with the patch footprint its
 //    patches, 180), the film (Film::packedBytesPerPixel, 216), the result
-//    grid (70), lighttrace's light tallies (a double score and a float
-//    square for each part of a block being traced, about one per thread,
-//    and the block's two doubles), and 56 bytes per atlas pixel for the
-//    images;
+//    grid (70), lighttrace's light tallies (12 bytes for each of
+//    LightTrace::mostTalliesAlive(), and the block's two doubles), and 56
+//    bytes per atlas pixel for the images;
 //  - the .glb after it: the sensor, the colours (12), the table from
 //    voxel to pixel (40) and the baked atlas (about two texels of 12
 //    bytes per surface voxel, and their PNG: 30).
@@ -272,9 +270,7 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const uint64_t S = surfaceVoxels;
     auto peakBytes = [&](bool patch, bool lighttrace) {
         const uint64_t sensorBytes = (patch ? 180 : 80) * S;
-        const uint64_t threads = std::min<uint64_t>(
-            16, tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
-        const uint64_t tallyBytes = lighttrace ? 16 + 12 * (threads + 1) : 0;
+        const uint64_t tallyBytes = lighttrace ? 16 + 12 * LightTrace::mostTalliesAlive() : 0;
         const uint64_t renderBytes =
             sensorBytes + (Film::packedBytesPerPixel() + 70 + tallyBytes) * S + 56 * atlasPixels;
         const uint64_t glbBytes = sensorBytes + (12 + 40 + 30) * S;

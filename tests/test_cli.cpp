@@ -625,7 +625,8 @@ constexpr const char* kChromium = "/usr/bin/chromium";
 double showPage(const fs::path& dir, const fs::path& html, const fs::path& shot) {
     const fs::path out = dir / "show_page.json", log = dir / "show_page.log";
     const std::string command = "node " + (fs::path(PRINTLIGHT_SOURCE_DIR) / "web" / "show_page.mjs").string() + " " +
-                                html.string() + " " + shot.string() + " >" + out.string() + " 2>" + log.string();
+                                kChromium + " " + html.string() + " " + shot.string() + " >" + out.string() + " 2>" +
+                                log.string();
     if (std::system(command.c_str()) != 0) return -1;
     return nlohmann::json::parse(readText(out))["seconds"].get<double>();
 }

@@ -60,7 +60,7 @@ TEST(PredictionGlb, ColoursOnTheModelAreTheVoxelsOverTheEyesFootprint) {
     const auto dir = test::freshTempDir("prediction_glb");
     writePredictionGlb(sphere, frame, voxels, colours, dir / "p.glb");
     // Each triangle's vertices, positions and texture coordinates, and an
-    // 8-bit PNG: far less than the old per-patch vertex colours.
+    // 8-bit PNG: under 80 bytes a surface voxel.
     EXPECT_LT(std::filesystem::file_size(dir / "p.glb"), 80 * voxels.size());
 
     // (Repaired: the sphere's poles have triangles of no area, which the
@@ -81,9 +81,8 @@ TEST(PredictionGlb, ColoursOnTheModelAreTheVoxelsOverTheEyesFootprint) {
     // Per voxel a few units where the grain changes: a voxel's point may
     // show a neighbour whose centre is nearer the surface there (the
     // patches gave the surface to voxels the same way), and bilinear
-    // lookups blend neighbouring voxels' texels (8-bit sRGB alone: 0.01
-    // over the footprint; texels four times finer: 0.30 instead of 0.38).
-    // Over the eye's footprint, well under one.
+    // lookups blend neighbouring voxels' texels (8-bit sRGB alone makes
+    // 0.01 over the footprint). Over the eye's footprint, well under one.
     EXPECT_LT(e.meanFiltered, 0.5) << "p95 " << e.p95Filtered << ", per voxel " << e.mean << " / " << e.p95;
     EXPECT_LT(e.p95Filtered, 1.0);
     std::filesystem::remove_all(dir);
@@ -91,16 +90,22 @@ TEST(PredictionGlb, ColoursOnTheModelAreTheVoxelsOverTheEyesFootprint) {
 
 TEST(TriangleAtlas, GrowsItsTexelToFitTheLargestSide) {
     const TriangleMesh sphere = synthetic::sphereMesh({0, 0, 0}, 5.0f, 16);
-    const TriangleAtlas fine(sphere, 0.01f, 64);
-    EXPECT_LE(std::max(fine.width(), fine.height()), 64);
+    const TriangleAtlas fine(sphere, 0.01f, 256);
+    EXPECT_LE(std::max(fine.width(), fine.height()), 256);
     EXPECT_GT(fine.texel_mm(), 0.01f);
+    // More triangles than their gutters fit in the side asked for: the
+    // atlas ends as small as they allow.
+    const TriangleMesh many = synthetic::sphereMesh({0, 0, 0}, 5.0f, 64);
+    const TriangleAtlas crowded(many, 0.01f, 64);
+    EXPECT_GT(crowded.width(), 64);
+    EXPECT_LT(double(crowded.width()) * crowded.height(), 2.0 * 25.0 * double(many.triangleCount()));
     const TriangleAtlas coarse(sphere, 0.5f);
     EXPECT_FLOAT_EQ(coarse.texel_mm(), 0.5f);
     // Each triangle's corners land in the atlas, inside its own rectangle:
     // a bake that paints each triangle its own colour reads back that
     // colour at its centroid.
     const std::vector<RGB> image =
-        coarse.bake([](uint32_t t, const Point3f&) { return RGB{float(t % 7) / 7, float(t % 11) / 11, float(t) / 1e4f}; });
+        coarse.bake(sphere, [](uint32_t t, const Point3f&) { return RGB{float(t % 7) / 7, float(t % 11) / 11, float(t) / 1e4f}; });
     for (size_t t = 0; t < sphere.triangleCount(); ++t) {
         float u = 0, v = 0;
         for (const auto& c : coarse.uv(t)) {

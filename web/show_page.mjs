@@ -2,13 +2,13 @@
 // core, no browser of its own) and waits until every view shows its model.
 // Prints {"seconds": s, "views": n}: from the start of the page's load to
 // its last view ready. With a second argument, a screenshot there.
-//   node web/show_page.mjs REPORT.html [SHOT.png]
+//   node web/show_page.mjs CHROMIUM REPORT.html [SHOT.png]
 import { chromium } from 'playwright-core';
 import { resolve } from 'node:path';
 
-const [file, screenshot] = process.argv.slice(2);
+const [executablePath, file, screenshot] = process.argv.slice(2);
 const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
+  executablePath,
   args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
          '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync'],
 });
@@ -17,6 +17,7 @@ try {
   const start = Date.now();
   await page.goto('file://' + resolve(file));
   const views = await page.evaluate(() => document.querySelectorAll('canvas').length);
+  if (views === 0) throw new Error(file + ': the page has no views');
   await page.waitForFunction((n) => Number(document.body.dataset.loaded || 0) >= n, views, { timeout: 120000 });
   const seconds = (Date.now() - start) / 1000;
   // Two frames more: the views draw what they loaded.
