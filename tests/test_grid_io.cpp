@@ -274,6 +274,17 @@ TEST(MaterialsIo, ValidatesCoefficients) {
 
 
 namespace pl {
+// Read through the cached accessor, a grid's labels are LabelGrid::label's,
+// in and out of the frame.
+TEST(LabelReader, ReadsWhatTheGridHolds) {
+    const LabelGrid grid = randomGrid();
+    const LabelReader reader(grid);
+    const Vec3i& r = grid.frame().resolution;
+    for (int z = -1; z <= r.z; ++z)
+        for (int y = -1; y <= r.y; ++y)
+            for (int x = -1; x <= r.x; ++x) ASSERT_EQ(reader.at({x, y, z}), grid.label({x, y, z})) << x << " " << y << " " << z;
+}
+
 // Sparse integers on voxels: what was set reads back, the rest is the
 // background, every voxel set is visited once, and the memory follows the
 // voxels set, not the volume they span (the optimisation loop's shell).
