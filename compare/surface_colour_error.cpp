@@ -26,6 +26,15 @@ std::vector<float> deltaEs(const std::vector<RGB>& a, const std::vector<RGB>& b)
     return d;
 }
 
+// The error from its per-voxel values and those over the footprint.
+SurfaceColourError errorOf(std::vector<float> perVoxel, const std::vector<float>& filtered) {
+    SurfaceColourError e;
+    const DeltaEStats raw = meanAndP95(perVoxel), over = meanAndP95(filtered);
+    e.mean = raw.mean, e.p95 = raw.p95, e.meanFiltered = over.mean, e.p95Filtered = over.p95;
+    e.perVoxel = std::move(perVoxel);
+    return e;
+}
+
 }  // namespace
 
 DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b) { return meanAndP95(deltaEs(a, b)); }
@@ -51,15 +60,7 @@ SurfaceColourError surfaceColourError(const std::vector<Point3f>& points_mm, con
 
 SurfaceColourError surfaceColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& predicted,
                                       const std::vector<RGB>& reference) {
-    SurfaceColourError e;
-    e.perVoxel = deltaEs(predicted, reference);
-    const DeltaEStats raw = meanAndP95(e.perVoxel);
-    e.mean = raw.mean;
-    e.p95 = raw.p95;
-    const DeltaEStats filtered = meanAndP95(deltaEs(footprint.apply(predicted), footprint.apply(reference)));
-    e.meanFiltered = filtered.mean;
-    e.p95Filtered = filtered.p95;
-    return e;
+    return errorOf(deltaEs(predicted, reference), deltaEs(footprint.apply(predicted), footprint.apply(reference)));
 }
 
 std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed) {
@@ -100,13 +101,6 @@ SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::v
     for (size_t i = 0; i < n; ++i)
         for (int c = 0; c < 3; ++c) out.meanSeen[i][c] = 0.5f * (seen[0][i][c] + seen[1][i][c]);
     out.deltaESeen = deltaEs(out.meanSeen, seen[2]);
-    auto errorOf = [](std::vector<float> perVoxel, const std::vector<float>& filtered) {
-        SurfaceColourError e;
-        const DeltaEStats raw = meanAndP95(perVoxel), over = meanAndP95(filtered);
-        e.mean = raw.mean, e.p95 = raw.p95, e.meanFiltered = over.mean, e.p95Filtered = over.p95;
-        e.perVoxel = std::move(perVoxel);
-        return e;
-    };
     out.error = errorOf(deltaEs(mean, reference), out.deltaESeen);
     out.noise = errorOf(deltaEs(halfA, mean), deltaEs(seen[0], out.meanSeen));
     double sum = 0;

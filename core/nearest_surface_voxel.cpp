@@ -20,9 +20,9 @@ void NearestSurfaceVoxel::search(const Point3f& x_mm, const Vec3i& centre, const
                 const float d2 = dot(d, d);
                 // A cell farther than the best so far needs no look-up.
                 if (d2 > best_mm2) continue;
-                auto it = pixelOf_.find(key(v));
-                if (it == pixelOf_.end()) continue;
-                if (d2 < best_mm2 || (d2 == best_mm2 && best && it->second < *best)) best_mm2 = d2, best = it->second;
+                const std::optional<uint32_t> pixel = pixelOf(v);
+                if (!pixel) continue;
+                if (d2 < best_mm2 || (d2 == best_mm2 && best && *pixel < *best)) best_mm2 = d2, best = *pixel;
             }
 }
 

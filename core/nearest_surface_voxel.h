@@ -1,7 +1,9 @@
-// The surface voxel whose centre is nearest to a point of the surface (as
-// the patches give mesh pieces to voxels, core/surface_patches.h), without
-// the patches: a table from voxel to sensor pixel, searched around the
-// point's cell. For colours that belong to surface voxels shown on the mesh.
+// The surface voxel whose centre is nearest to a point of the surface,
+// without the patches: a table from voxel to sensor pixel, searched around
+// the point's cell. For colours that belong to surface voxels shown on the
+// mesh. The patches (core/surface_patches.h) look their owners up in the
+// same table, by their own rule (the nearest in the first box of cells
+// that holds any).
 #pragma once
 
 #include <cstdint>
@@ -23,6 +25,12 @@ public:
     // none if there is none.
     std::optional<uint32_t> at(const Point3f& x_mm) const;
     static constexpr float kMostVoxels = 2.0f;
+    // The pixel of a surface voxel; none for any other voxel.
+    std::optional<uint32_t> pixelOf(const Vec3i& voxel) const {
+        auto it = pixelOf_.find(key(voxel));
+        if (it == pixelOf_.end()) return std::nullopt;
+        return it->second;
+    }
 
 private:
     static uint64_t key(const Vec3i& v) {

@@ -1,5 +1,6 @@
 #include "core/surface_patches.h"
 
+#include "core/nearest_surface_voxel.h"
 #include "core/sampling.h"
 
 #include <algorithm>
@@ -56,10 +57,6 @@ void cutIntoCells(const Polygon& poly, int axis, Vec3i cell, Visit&& visit) {
     }
 }
 
-uint64_t keyOf(const Vec3i& v) {
-    return (uint64_t(uint32_t(v.x) & 0x1fffff) << 42) | (uint64_t(uint32_t(v.y) & 0x1fffff) << 21) |
-           uint64_t(uint32_t(v.z) & 0x1fffff);
-}
 
 // A cell's part of a triangle: the pixel it is given to, how many pieces
 // it gives, and where the first goes in the pixels' pieces.
@@ -106,9 +103,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     const Vec3i& r = frame.resolution;
     if (mesh.triangleCount() >= (size_t(1) << 24) || double(r.x + 4) * (r.y + 4) * (r.z + 4) >= 0x1p40)
         throw std::runtime_error("the patch footprint takes at most 2^24 triangles and about 10^12 voxels");
-    absl::flat_hash_map<uint64_t, uint32_t> pixelOf;
-    pixelOf.reserve(voxels.size());
-    for (size_t i = 0; i < voxels.size(); ++i) pixelOf.emplace(keyOf(voxels[i]), uint32_t(i));
+    const NearestSurfaceVoxel table(frame, voxels);
     const Vec3f scale = frame.worldToCellScale(), offset = frame.worldToCellOffset();
     auto toCell = [&](const Point3f& p) {
         return Point3f(p.x * scale.x + offset.x, p.y * scale.y + offset.y, p.z * scale.z + offset.z);
@@ -126,14 +121,14 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
                 for (int dy = -reach; dy <= reach; ++dy)
                     for (int dx = -reach; dx <= reach; ++dx) {
                         const Vec3i v{at.x + dx, at.y + dy, at.z + dz};
-                        auto it = pixelOf.find(keyOf(v));
-                        if (it == pixelOf.end()) continue;
+                        const std::optional<uint32_t> pixel = table.pixelOf(v);
+                        if (!pixel) continue;
                         const Vec3f d = frame.voxelCenter_mm(v) - p;
                         const float d2 = dot(d, d);
                         // Ties go to the lower pixel index: the same owner whatever the order.
-                        if (d2 < bestDistance2 || (d2 == bestDistance2 && it->second < *best)) {
+                        if (d2 < bestDistance2 || (d2 == bestDistance2 && *pixel < *best)) {
                             bestDistance2 = d2;
-                            best = it->second;
+                            best = *pixel;
                         }
                     }
         return best;
@@ -173,8 +168,7 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         const uint32_t* idx = &mesh.indices[3 * t];
         const Point3f& a = mesh.positions_mm[idx[0]];
         const Vec3f e = cross(mesh.positions_mm[idx[1]] - a, mesh.positions_mm[idx[2]] - a);
-        if (!(length(e) > 0.0f)) return;
-        triangleNormal_[t] = normalize(e);
+        if (length(e) > 0.0f) triangleNormal_[t] = normalize(e);  // else 0: cellPolygons skips it
         std::vector<Piece> fan;
         cellPolygons(t, [&](const Vec3i& cell, const Polygon& cellPoly) {
             double area;

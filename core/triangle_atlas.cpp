@@ -68,9 +68,8 @@ TriangleAtlas::TriangleAtlas(const TriangleMesh& mesh, float texel_mm, int mostS
         }
         Chart& c = charts_[t];
         c.first = longest;
-        c.corner = {i[longest], i[(longest + 1) % 3], i[(longest + 2) % 3]};
-        const Point3f a = mesh.positions_mm[c.corner[0]];
-        const Vec3f along = mesh.positions_mm[c.corner[1]] - a, third = mesh.positions_mm[c.corner[2]] - a;
+        const Point3f a = mesh.positions_mm[i[longest]];
+        const Vec3f along = mesh.positions_mm[i[(longest + 1) % 3]] - a, third = mesh.positions_mm[i[(longest + 2) % 3]] - a;
         const float s = longest_mm > 0 ? dot(third, along) / longest_mm : 0.0f;
         const float up = std::sqrt(std::max(0.0f, dot(third, third) - s * s));
         c.flat = {Flat{0, 0}, Flat{longest_mm, 0}, Flat{s, up}};
@@ -123,8 +122,9 @@ std::vector<RGB> TriangleAtlas::bake(const TriangleMesh& mesh,
     // Rectangles do not overlap: each texel is written once.
     tbb::parallel_for(size_t(0), charts_.size(), [&](size_t t) {
         const Chart& c = charts_[t];
-        const Point3f p[3] = {mesh.positions_mm[c.corner[0]], mesh.positions_mm[c.corner[1]],
-                              mesh.positions_mm[c.corner[2]]};
+        const uint32_t* i = &mesh.indices[3 * t];
+        const Point3f p[3] = {mesh.positions_mm[i[c.first]], mesh.positions_mm[i[(c.first + 1) % 3]],
+                              mesh.positions_mm[i[(c.first + 2) % 3]]};
         for (int j = 0; j < c.h; ++j)
             for (int i = 0; i < c.w; ++i) {
                 const Flat q{float(i) + 0.5f - float(kGutter), float(j) + 0.5f - float(kGutter)};

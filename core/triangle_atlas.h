@@ -51,8 +51,7 @@ private:
         std::array<std::array<float, 2>, 3> flat;
         int x = 0, y = 0, w = 0, h = 0;  // the rectangle in the atlas
         std::array<std::array<float, 2>, 3> uv;  // the mesh's corner order
-        std::array<uint32_t, 3> corner;  // mesh vertex of each flat corner
-        int first = 0;                   // the mesh's corner laid first
+        int first = 0;  // the mesh's corner laid as flat corner 0 (the rest follow in order)
     };
     std::vector<Chart> charts_;
     int width_ = 0, height_ = 0;

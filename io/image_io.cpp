@@ -157,7 +157,7 @@ std::vector<uint8_t> srgb8(const Texture& texture) {
     std::vector<uint8_t> data(texture.linear.size() * 3);
     for (size_t i = 0; i < texture.linear.size(); ++i)
         for (int c = 0; c < 3; ++c)
-            data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(std::clamp(texture.linear[i][c], 0.0f, 1.0f))));
+            data[i * 3 + c] = uint8_t(std::lround(255.0f * linearToSrgb(texture.linear[i][c])));
     return data;
 }
 }  // namespace

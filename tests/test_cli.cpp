@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/rng.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
@@ -712,12 +713,9 @@ TEST(CliAlone, ReportOfA20mmModelShowsInChromiumWithin5s) {
                 else if (z > 0 && z < n.z - 1 && y > 0 && y < n.y - 1) x = n.x - 2;  // to the far face
     ASSERT_GT(voxels.size(), 1000000u);
     std::vector<RGB> colours(voxels.size());
-    uint64_t state = 1;
+    Rng rng(1, 0);
     for (RGB& c : colours)
-        for (int k = 0; k < 3; ++k) {
-            state = state * 6364136223846793005ull + 1442695040888963407ull;
-            c[k] = 0.3f + 0.4f * float(state >> 40) / float(1 << 24);
-        }
+        for (float& x : c) x = 0.3f + 0.4f * rng.uniform();
     const fs::path glb = dir / "p.glb", html = dir / "report.html";
     const auto t1 = std::chrono::steady_clock::now();
     writePredictionGlb(test::boxMesh({0, 0, 0}, hi), frame, voxels, colours, glb);
