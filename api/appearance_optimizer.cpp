@@ -188,7 +188,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
                                   const std::function<void(const OptimizeIteration&)>& onIteration) {
     using Clock = std::chrono::steady_clock;
     const auto loopStart = Clock::now();
-    const GridFrame frame = predictor.labels().frame();
     const RGB environment = predictor.environment();
     const LabelGrid given = predictor.labels().withChanges({});
     const uint64_t baseSeed = predictor.settings().seed;

@@ -4,6 +4,7 @@
 #include "core/sampling.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -13,7 +14,19 @@ namespace pl {
 
 namespace {
 
-using Polygon = std::vector<Point3f>;  // in cell coordinates
+// A convex polygon in cell coordinates: a triangle cut by at most six
+// planes, each of which adds at most one corner (room for rounding's).
+struct Polygon {
+    std::array<Point3f, 16> corner;
+    size_t n = 0;
+    size_t size() const { return n; }
+    const Point3f& operator[](size_t i) const { return corner[i]; }
+    Point3f& operator[](size_t i) { return corner[i]; }
+    void push_back(const Point3f& p) {
+        if (n == corner.size()) throw std::logic_error("SurfacePatches: a cut polygon has too many corners");
+        corner[n++] = p;
+    }
+};
 
 // The part of the convex polygon with coordinate `axis` >= value (keepAbove)
 // or <= value (Sutherland-Hodgman against one plane).
@@ -35,6 +48,21 @@ Polygon clip(const Polygon& poly, int axis, float value, bool keepAbove) {
     return out;
 }
 
+// The first and last cells the polygon reaches along an axis.
+std::pair<int, int> cellSpan(const Polygon& poly, int axis) {
+    float lo = 1e30f, hi = -1e30f;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        lo = std::min(lo, poly[i][axis]);
+        hi = std::max(hi, poly[i][axis]);
+    }
+    return {int(std::floor(lo)), int(std::floor(hi))};
+}
+
+// The polygon's part in cell k along an axis (itself if it lies in one).
+Polygon slabOf(const Polygon& poly, int axis, int k, bool inOneCell) {
+    return inOneCell ? poly : clip(clip(poly, axis, float(k), true), axis, float(k + 1), false);
+}
+
 // Calls visit(cell, polygon) for the non-empty parts of the polygon in each
 // unit cell it crosses, cutting along z, then y, then x.
 template <class Visit>
@@ -43,28 +71,30 @@ void cutIntoCells(const Polygon& poly, int axis, Vec3i cell, Visit&& visit) {
         visit(cell, poly);
         return;
     }
-    float lo = 1e30f, hi = -1e30f;
-    for (const Point3f& p : poly) {
-        lo = std::min(lo, p[axis]);
-        hi = std::max(hi, p[axis]);
-    }
-    const int first = int(std::floor(lo)), last = int(std::floor(hi));
+    const auto [first, last] = cellSpan(poly, axis);
     for (int k = first; k <= last; ++k) {
-        Polygon slab = first == last ? poly : clip(clip(poly, axis, float(k), true), axis, float(k + 1), false);
+        Polygon slab = slabOf(poly, axis, k, first == last);
         if (slab.size() < 3) continue;
         cell[axis] = k;
         cutIntoCells(slab, axis - 1, cell, visit);
     }
 }
 
+// The part of the polygon in one cell, by the same operations as
+// cutIntoCells (so the same bits); fewer than 3 corners if none.
+Polygon cellPart(Polygon poly, const Vec3i& cell) {
+    for (int axis = 2; axis >= 0 && poly.size() >= 3; --axis) {
+        const auto [first, last] = cellSpan(poly, axis);
+        poly = slabOf(poly, axis, cell[axis], first == last);
+    }
+    return poly;
+}
 
-// A cell's part of a triangle: the pixel it is given to, how many pieces
-// it gives, and where the first goes in the pixels' pieces.
+
+// A cell's part of a triangle and the pixel it is given to.
 struct CellOwner {
     Vec3i cell;
     uint32_t pixel;
-    uint32_t pieces;
-    uint64_t firstPiece;
 };
 
 }  // namespace
@@ -80,11 +110,17 @@ SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& 
     // lies within a cell of the frame); its brick's index below 2^40, the
     // triangle above.
     const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
-    const Vec3i r = frame_.resolution;
-    const Vec3i bricks{(r.x + 4 + 7) >> 3, (r.y + 4 + 7) >> 3, (r.z + 4 + 7) >> 3};
+    const Vec3i r = widenedResolution();
+    const Vec3i bricks{(r.x + 7) >> 3, (r.y + 7) >> 3, (r.z + 7) >> 3};
     const Vec3i b{c.x >> 3, c.y >> 3, c.z >> 3};
     const uint64_t brick = (uint64_t(b.z) * uint64_t(bricks.y) + uint64_t(b.y)) * uint64_t(bricks.x) + uint64_t(b.x);
     return {(uint64_t(prim) << 40) | brick, uint16_t((c.x & 7) | (c.y & 7) << 3 | (c.z & 7) << 6)};
+}
+
+uint64_t SurfacePatches::partKey(uint32_t prim, const Vec3i& cell) const {
+    const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
+    const Vec3i r = widenedResolution();
+    return (uint64_t(prim) << 40) | ((uint64_t(c.z) * uint64_t(r.y) + uint64_t(c.y)) * uint64_t(r.x) + uint64_t(c.x));
 }
 
 std::optional<uint32_t> SurfacePatches::pixelAt(uint32_t prim, const Point3f& x_mm) const {
@@ -98,19 +134,64 @@ std::optional<uint32_t> SurfacePatches::pixelAt(uint32_t prim, const Point3f& x_
     return ownerOfCell_[at - cellInBrick_.data()];
 }
 
+Point3f SurfacePatches::toCell(const Point3f& p_mm) const {
+    const Vec3f scale = frame_.worldToCellScale(), offset = frame_.worldToCellOffset();
+    return Point3f(p_mm.x * scale.x + offset.x, p_mm.y * scale.y + offset.y, p_mm.z * scale.z + offset.z);
+}
+
+Point3f SurfacePatches::toWorld(const Point3f& c) const {
+    const Vec3f scale = frame_.worldToCellScale(), offset = frame_.worldToCellOffset();
+    return Point3f((c.x - offset.x) / scale.x, (c.y - offset.y) / scale.y, (c.z - offset.z) / scale.z);
+}
+
+namespace {
+
+// A cell's part of a triangle fanned into pieces in millimetres (none of
+// no area): visit gets each; returns false as soon as visit does.
+template <class ToWorld, class Visit>
+bool fanPieces(uint32_t prim, const Polygon& cellPoly, ToWorld&& toWorld, Visit&& visit) {
+    Polygon w;
+    for (size_t i = 0; i < cellPoly.size(); ++i) w.push_back(toWorld(cellPoly[i]));
+    for (size_t i = 1; i + 1 < w.size(); ++i) {
+        const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
+        if (!(pieceArea > 0.0f)) continue;
+        if (!visit(SurfacePatches::Piece{w[0], w[i], w[i + 1], pieceArea, prim})) return false;
+    }
+    return true;
+}
+
+// Triangle prim of the mesh in cell coordinates.
+template <class ToCell>
+Polygon trianglePolygon(const TriangleMesh& mesh, uint32_t prim, ToCell&& toCell) {
+    const uint32_t* idx = &mesh.indices[3 * size_t(prim)];
+    Polygon poly;
+    for (int k = 0; k < 3; ++k) poly.push_back(toCell(mesh.positions_mm[idx[k]]));
+    return poly;
+}
+
+}  // namespace
+
+bool SurfacePatches::forEachPieceOfPart(uint64_t part, absl::FunctionRef<bool(const Piece&)> visit) const {
+    const uint32_t prim = uint32_t(part >> 40);
+    const uint64_t index = part & ((uint64_t(1) << 40) - 1);
+    const Vec3i r = widenedResolution();
+    const Vec3i c{int(index % uint64_t(r.x)), int(index / uint64_t(r.x) % uint64_t(r.y)),
+                  int(index / (uint64_t(r.x) * uint64_t(r.y)))};
+    const Polygon poly = cellPart(trianglePolygon(mesh_, prim, [&](const Point3f& p) { return toCell(p); }), c + frame_.indexMin - Vec3i{2, 2, 2});
+    return fanPieces(prim, poly, [&](const Point3f& p) { return toWorld(p); }, visit);
+}
+
+void SurfacePatches::forEachPiece(size_t pixel, absl::FunctionRef<bool(const Piece&)> visit) const {
+    for (uint32_t k = firstPart_[pixel]; k < firstPart_[pixel + 1]; ++k)
+        if (!forEachPieceOfPart(parts_[k], visit)) return;
+}
+
 SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels)
-    : frame_(frame) {
+    : frame_(frame), mesh_(mesh) {
     const Vec3i& r = frame.resolution;
     if (mesh.triangleCount() >= (size_t(1) << 24) || double(r.x + 4) * (r.y + 4) * (r.z + 4) >= 0x1p40)
         throw std::runtime_error("the patch footprint takes at most 2^24 triangles and about 10^12 voxels");
     const NearestSurfaceVoxel table(frame, voxels);
-    const Vec3f scale = frame.worldToCellScale(), offset = frame.worldToCellOffset();
-    auto toCell = [&](const Point3f& p) {
-        return Point3f(p.x * scale.x + offset.x, p.y * scale.y + offset.y, p.z * scale.z + offset.z);
-    };
-    auto toWorld = [&](const Point3f& c) {
-        return Point3f((c.x - offset.x) / scale.x, (c.y - offset.y) / scale.y, (c.z - offset.z) / scale.z);
-    };
     // The surface voxel whose centre is nearest to p (mm), within two voxels of p's cell.
     auto ownerOf = [&](const Point3f& p) -> std::optional<uint32_t> {
         const Vec3i at = cellOf(p);
@@ -136,99 +217,69 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
 
     const size_t triangles = mesh.triangleCount();
     triangleNormal_.assign(triangles, Vec3f(0, 0, 0));
-    // Each cell's part of a triangle, fanned into pieces in millimetres
-    // (none of no area), with their total area and centroid.
-    auto fanOf = [&](size_t t, const Polygon& cellPoly, std::vector<Piece>& fan, double& area, Vec3f& centroid) {
-        Polygon w(cellPoly.size());
-        for (size_t i = 0; i < w.size(); ++i) w[i] = toWorld(cellPoly[i]);
-        fan.clear();
-        area = 0.0;
-        centroid = Vec3f(0, 0, 0);
-        for (size_t i = 1; i + 1 < w.size(); ++i) {
-            const float pieceArea = 0.5f * length(cross(w[i] - w[0], w[i + 1] - w[0]));
-            if (!(pieceArea > 0.0f)) continue;
-            fan.push_back({w[0], w[i], w[i + 1], pieceArea, uint32_t(t)});
-            area += pieceArea;
-            centroid = centroid + (w[0] + w[i] + w[i + 1]) * (pieceArea / 3.0f);
-        }
-    };
-    auto cellPolygons = [&](size_t t, auto&& visit) {
-        const uint32_t* idx = &mesh.indices[3 * t];
-        const Point3f& a = mesh.positions_mm[idx[0]];
-        if (!(length(triangleNormal_[t]) > 0.0f)) return;
-        Polygon poly{toCell(a), toCell(mesh.positions_mm[idx[1]]), toCell(mesh.positions_mm[idx[2]])};
-        cutIntoCells(poly, 2, Vec3i{0, 0, 0}, visit);
-    };
-    // Two passes over the cut, so that the pieces are held once: the
-    // first finds each cell's owner and how many pieces it gives it, the
-    // second (the same cut again) writes the pieces in their places.
+    // Each triangle's cut: its cells' parts and their owners, in cut order.
     std::vector<std::vector<CellOwner>> cellOwners(triangles);
     std::vector<double> unassigned(triangles, 0.0);
     tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
         const uint32_t* idx = &mesh.indices[3 * t];
         const Point3f& a = mesh.positions_mm[idx[0]];
         const Vec3f e = cross(mesh.positions_mm[idx[1]] - a, mesh.positions_mm[idx[2]] - a);
-        if (length(e) > 0.0f) triangleNormal_[t] = normalize(e);  // else 0: cellPolygons skips it
-        std::vector<Piece> fan;
-        cellPolygons(t, [&](const Vec3i& cell, const Polygon& cellPoly) {
-            double area;
-            Vec3f centroid;
-            fanOf(t, cellPoly, fan, area, centroid);
-            if (fan.empty()) return;
+        if (!(length(e) > 0.0f)) return;  // no area, no normal: no pieces
+        triangleNormal_[t] = normalize(e);
+        cutIntoCells(trianglePolygon(mesh, uint32_t(t), [&](const Point3f& p) { return toCell(p); }), 2, Vec3i{0, 0, 0}, [&](const Vec3i& cell, const Polygon& cellPoly) {
+            double area = 0.0;
+            Vec3f centroid(0, 0, 0);
+            fanPieces(uint32_t(t), cellPoly, [&](const Point3f& p) { return toWorld(p); }, [&](const Piece& piece) {
+                area += piece.area_mm2;
+                centroid = centroid + (piece.a + piece.b + piece.c) * (piece.area_mm2 / 3.0f);
+                return true;
+            });
+            if (area == 0.0) return;
             auto owner = ownerOf(centroid / float(area));
             if (!owner) {
                 unassigned[t] += area;
                 return;
             }
-            cellOwners[t].push_back({cell, *owner, uint32_t(fan.size()), 0});
+            cellOwners[t].push_back({cell, *owner});
         });
     });
 
     // Group by pixel, in triangle order within a pixel (deterministic).
     std::vector<uint64_t> count(voxels.size() + 1, 0);
     for (const auto& list : cellOwners)
-        for (const CellOwner& o : list) count[o.pixel + 1] += o.pieces;
+        for (const CellOwner& o : list) count[o.pixel + 1] += 1;
     for (size_t i = 1; i < count.size(); ++i) count[i] += count[i - 1];
-    first_ = count;
+    if (count.back() >= (uint64_t(1) << 32))
+        throw std::runtime_error("the patch footprint takes at most 2^32 (triangle, voxel) parts");
+    firstPart_.assign(count.begin(), count.end());
     count = {};
-    pieces_.resize(first_.back());
-    std::vector<uint64_t> next(first_.begin(), first_.end() - 1);
-    for (auto& list : cellOwners)
-        for (CellOwner& o : list) {
-            o.firstPiece = next[o.pixel];
-            next[o.pixel] += o.pieces;
-        }
+    parts_.resize(firstPart_.back());
+    std::vector<uint32_t> next(firstPart_.begin(), firstPart_.end() - 1);
+    for (size_t t = 0; t < triangles; ++t)
+        for (const CellOwner& o : cellOwners[t]) parts_[next[o.pixel]++] = partKey(uint32_t(t), o.cell);
     next = {};
-    tbb::parallel_for(size_t(0), triangles, [&](size_t t) {
-        // The cells come in the first pass's order; those it gave no owner
-        // (or no pieces) are not in the list.
-        size_t k = 0;
-        const std::vector<CellOwner>& owners = cellOwners[t];
-        std::vector<Piece> fan;
-        cellPolygons(t, [&](const Vec3i& cell, const Polygon& cellPoly) {
-            if (k == owners.size() || owners[k].cell != cell) return;
-            double area;
-            Vec3f centroid;
-            fanOf(t, cellPoly, fan, area, centroid);
-            // The same cut as the first pass's, so the same pieces.
-            if (fan.size() != owners[k].pieces) throw std::logic_error("SurfacePatches: the second cut differs");
-            std::copy(fan.begin(), fan.end(), pieces_.begin() + std::ptrdiff_t(owners[k].firstPiece));
-            ++k;
-        });
-    });
+    // A patch's area: its pieces' areas added in order.
     area_mm2_.assign(voxels.size(), 0.0);
-    for (size_t i = 0; i < voxels.size(); ++i) {
-        for (const Piece* p = begin(i); p != end(i); ++p) area_mm2_[i] += p->area_mm2;
-        emptyPatches_ += first_[i] == first_[i + 1];
-    }
+    tbb::parallel_for(size_t(0), voxels.size(), [&](size_t i) {
+        double area = 0.0;
+        forEachPiece(i, [&](const Piece& p) {
+            area += p.area_mm2;
+            return true;
+        });
+        area_mm2_[i] = area;
+    });
+    for (size_t i = 0; i < voxels.size(); ++i) emptyPatches_ += firstPart_[i] == firstPart_[i + 1];
     for (double a : unassigned) unassignedArea_mm2_ += a;
     struct SlotOwner {
         PieceSlot slot;
         uint32_t pixel;
     };
     std::vector<SlotOwner> owners;
-    for (size_t t = 0; t < triangles; ++t)
+    owners.reserve(parts_.size());
+    for (size_t t = 0; t < triangles; ++t) {
         for (const CellOwner& o : cellOwners[t]) owners.push_back({pieceSlot(uint32_t(t), o.cell), o.pixel});
+        cellOwners[t] = {};
+    }
     std::sort(owners.begin(), owners.end(), [](const SlotOwner& a, const SlotOwner& b) {
         return a.slot.brickKey != b.slot.brickKey ? a.slot.brickKey < b.slot.brickKey
                                                   : a.slot.cellInBrick < b.slot.cellInBrick;
@@ -244,14 +295,27 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     }
 }
 
+void SurfacePatches::piecesOf(size_t pixel, std::vector<Piece>& pieces) const {
+    pieces.clear();
+    forEachPiece(pixel, [&](const Piece& p) {
+        pieces.push_back(p);
+        return true;
+    });
+}
+
 std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, float u0, float u1) const {
-    const Piece* b = begin(pixel);
-    const Piece* e = end(pixel);
-    if (b == e) return std::nullopt;
+    thread_local std::vector<Piece> pieces;
+    piecesOf(pixel, pieces);
+    return sample(pieces, pixel, u0, u1);
+}
+
+std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(const std::vector<Piece>& pieces, size_t pixel, float u0,
+                                                                 float u1) const {
+    if (pieces.empty()) return std::nullopt;
     // Pick a piece by area with u0, and reuse what is left of u0 inside it.
     float target = u0 * float(area_mm2_[pixel]);
-    const Piece* p = b;
-    for (; p + 1 != e && target >= p->area_mm2; ++p) target -= p->area_mm2;
+    auto p = pieces.begin();
+    for (; p + 1 != pieces.end() && target >= p->area_mm2; ++p) target -= p->area_mm2;
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);
     const TriangleSample bary = sampleUniformTriangle(v0, u1);
     const Point3f x = p->a * bary.b0 + p->b * bary.b1 + p->c * bary.b2;

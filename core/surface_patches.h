@@ -6,9 +6,11 @@
 // leaving the patch along each piece's outward (geometric) normal,
 // averaged over the patch's area: what the eye integrates over the voxel's
 // bit of surface, where the "ray" footprint takes one fixed ray
-// (docs/surface-voxel-sensor.md). Pieces are kept as triangles (the cut
-// polygons fanned), with their area, so a patch is sampled uniformly by
-// area.
+// (docs/surface-voxel-sensor.md). A patch keeps only which (triangle,
+// cell) parts it owns, 8 bytes each; its pieces, the parts' polygons
+// fanned into triangles with their areas, are cut again when asked for
+// (the same operations, so the same bits as the first cut), so a patch is
+// sampled uniformly by area without holding its geometry.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include <absl/container/flat_hash_map.h>
+#include <absl/functional/function_ref.h>
 
 #include "core/geometry.h"
 #include "core/grid_frame.h"
@@ -34,9 +37,9 @@ public:
     };
     // The outward normal of a piece: its triangle's.
     const Vec3f& normal(const Piece& piece) const { return triangleNormal_[piece.prim]; }
-    // Pixel i's pieces, and its patch's area (0: no piece).
-    const Piece* begin(size_t pixel) const { return pieces_.data() + first_[pixel]; }
-    const Piece* end(size_t pixel) const { return pieces_.data() + first_[pixel + 1]; }
+    // Calls visit with pixel i's pieces in order until it returns false.
+    void forEachPiece(size_t pixel, absl::FunctionRef<bool(const Piece&)> visit) const;
+    // Pixel i's patch's area (0: no piece).
     double area_mm2(size_t pixel) const { return area_mm2_[pixel]; }
 
     // A point of pixel i's patch, uniform by area, from two uniform numbers,
@@ -47,6 +50,9 @@ public:
         uint32_t prim;
     };
     std::optional<PatchPoint> sample(size_t pixel, float u0, float u1) const;
+    // The same from the pixel's pieces, cut once for many samples (piecesOf).
+    void piecesOf(size_t pixel, std::vector<Piece>& pieces) const;
+    std::optional<PatchPoint> sample(const std::vector<Piece>& pieces, size_t pixel, float u0, float u1) const;
 
     // The pixel whose patch holds point x of triangle prim (light tracing
     // scores there); none where no piece of that triangle in x's cell has
@@ -68,8 +74,18 @@ private:
         uint16_t cellInBrick;
     };
     PieceSlot pieceSlot(uint32_t prim, const Vec3i& cell) const;
+    // A part, (triangle, cell), as one number: the triangle above bit 40,
+    // the cell's index in the frame widened by 2 cells each side below.
+    uint64_t partKey(uint32_t prim, const Vec3i& cell) const;
+    Vec3i widenedResolution() const { return frame_.resolution + Vec3i{4, 4, 4}; }
+    // Calls visit with a part's pieces in fan order; false once visit is.
+    bool forEachPieceOfPart(uint64_t part, absl::FunctionRef<bool(const Piece&)> visit) const;
+    // A point in millimetres to cell coordinates (voxel indices, continuous) and back.
+    Point3f toCell(const Point3f& p_mm) const;
+    Point3f toWorld(const Point3f& cell) const;
 
     GridFrame frame_;
+    const TriangleMesh& mesh_;  // outlives the patches (the scene's)
     // The owners of the pieces, by (triangle, brick) and then by cell:
     // light tracing looks a pixel up per connection, and one particle's
     // track points fall in few bricks, whose entries stay in cache (a
@@ -80,9 +96,9 @@ private:
     absl::flat_hash_map<uint64_t, BrickCells> brickCells_;
     std::vector<uint16_t> cellInBrick_;
     std::vector<uint32_t> ownerOfCell_;
-    std::vector<Piece> pieces_;  // grouped by pixel
+    std::vector<uint64_t> parts_;  // grouped by pixel, in triangle and then cut order
     std::vector<Vec3f> triangleNormal_;
-    std::vector<uint64_t> first_;
+    std::vector<uint32_t> firstPart_;
     std::vector<double> area_mm2_;
     double unassignedArea_mm2_ = 0;
     size_t emptyPatches_ = 0;

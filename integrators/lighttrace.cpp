@@ -261,6 +261,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
             tally.score.assign(pixels, 0.0);
             tally.scoreSq.assign(pixels, 0.0f);
             PathStats partStats;
+            std::vector<SurfacePatches::Piece> pieces;  // the patch particles enter, cut once for them
             for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
                 if (interruptRequested()) {
                     std::lock_guard<std::mutex> lock(merging);
@@ -280,9 +281,10 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                 const double whole = std::floor(expected);
                 const int count = int(whole) + (rng.uniform() < expected - whole ? 1 : 0);
                 const double weight = Le * kPi * patches_.area_mm2(i) / expected;
+                if (count > 0) patches_.piecesOf(i, pieces);
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
-                    const auto x = patches_.sample(i, u0, u1);  // not empty (above)
+                    const auto x = patches_.sample(pieces, i, u0, u1);  // not empty (above)
                     traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tally,
                                   partStats);
                 }

@@ -56,10 +56,11 @@ SurfacePoint surfacePointOf(const SurfaceVoxelSensor& surface, size_t i) {
     if (e.area_mm2 > 0) {
         Point3f weighted(0, 0, 0);
         Vec3f n(0, 0, 0);
-        for (const SurfacePatches::Piece* piece = patches.begin(i); piece != patches.end(i); ++piece) {
-            weighted += (piece->a + piece->b + piece->c) * (piece->area_mm2 / 3.0f);
-            n += patches.normal(*piece) * piece->area_mm2;
-        }
+        patches.forEachPiece(i, [&](const SurfacePatches::Piece& piece) {
+            weighted += (piece.a + piece.b + piece.c) * (piece.area_mm2 / 3.0f);
+            n += patches.normal(piece) * piece.area_mm2;
+            return true;
+        });
         e.p = weighted / e.area_mm2;
         if (length(n) > 0) e.normal = normalize(n);
     }

@@ -256,8 +256,8 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 // The surface-voxel sensor's memory, checked before it is made: the
 // larger of its two stages, per surface voxel (measured on the 10 mm
 // greek cube, docs/performance.md "Tray-sized models"):
-//  - the render: the sensor (80 bytes; with the patch footprint its
-//    patches, 180), the film (Film::packedBytesPerPixel, 216), the result
+//  - the render: the sensor (80 bytes; with the patch footprint and its
+//    patches, 100), the film (Film::packedBytesPerPixel, 216), the result
 //    grid (70), lighttrace's light tallies (12 bytes for each of
 //    LightTrace::mostTalliesAlive(), and the block's two doubles), and 56
 //    bytes per atlas pixel for the images;
@@ -269,7 +269,7 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
     const uint64_t S = surfaceVoxels;
     auto peakBytes = [&](bool patch, bool lighttrace) {
-        const uint64_t sensorBytes = (patch ? 180 : 80) * S;
+        const uint64_t sensorBytes = (patch ? 100 : 80) * S;
         const uint64_t tallyBytes = lighttrace ? 16 + 12 * LightTrace::mostTalliesAlive() : 0;
         const uint64_t renderBytes =
             sensorBytes + (Film::packedBytesPerPixel() + 70 + tallyBytes) * S + 56 * atlasPixels;
