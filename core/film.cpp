@@ -16,9 +16,10 @@ void Film::poolErrors(const Sensor* sensor) {
         for (const Accumulator& a : pixel)
             if (a.poolKey >= 0) {
                 KeyMoment& m = moments[a.poolKey];
-                m.residualSum += a.residualSum;
-                m.residualSqSum += a.residualSqSum;
-                m.samples += a.pooledSamples;
+                const Moments r = residualMoments(a);
+                m.residualSum += r.sum;
+                m.residualSqSum += r.m2 + (r.count > 0 ? r.sum * r.sum / r.count : 0.0);
+                m.samples += r.count;
             }
     // Per sample: the second moment of a key's residuals (a bound on the
     // variance) or, pooled where flat, their variance.
@@ -54,11 +55,7 @@ void Film::poolErrors(const Sensor* sensor) {
             auto addPixel = [&](size_t q) {
                 const Accumulator& b = acc_[q][size_t(c)];
                 if (windowKind(b) != kind) return;
-                const Moments m = momentsOf(b);
-                window.count += m.count;
-                window.units += m.units;
-                window.sum += m.sum;
-                window.sumSq += m.sumSq;
+                window.add(momentsOf(b));
             };
             if (imageIndex[p] < 0) addPixel(p);
             else {

@@ -62,9 +62,10 @@ public:
                 a.poolKey = sample.poolKey;
                 a.poolWhereFlat = sample.poolWhereFlat;
             }
-            a.residualSum += sample.residual;
-            a.residualSqSum += double(sample.residual) * sample.residual;
             a.pooledSamples += 1;
+            const float d = sample.residual - a.residualMean;
+            a.residualMean += d / float(a.pooledSamples);
+            a.residualM2 += d * (sample.residual - a.residualMean);
         }
         if (sample.hasWithinVariance) {
             a.hasWithinVariance = true;
@@ -73,13 +74,19 @@ public:
     }
     // A group of k samples that must count as one unit for the variance:
     // samples drawn together by stratification (hero channels going round
-    // three samples) are not independent, their group means are.
+    // three samples) are not independent, their group means are. The
+    // mean and squared deviations are updated in float (Welford's update,
+    // each unit weighted by its size): a float sum of squares less the
+    // squared sum would cancel, this has nothing to cancel and stays 0
+    // where every unit is equal.
     void addGroup(size_t pixel, int channel, double sumOfSamples, uint32_t k) {
         Accumulator& a = acc_[pixel][channel];
-        a.sum += sumOfSamples;
-        a.sumSq += sumOfSamples * sumOfSamples / k;  // k x (group mean)^2
         a.count += k;
         a.units += 1;
+        const float unitMean = float(sumOfSamples / k);
+        const float d = unitMean - a.mean;
+        a.mean += d * (float(k) / float(a.count));
+        a.m2 += float(k) * d * (unitMean - a.mean);
     }
     // Sets the errors that pooling gives (call after adding samples; the
     // same bits whatever the threads). Each pixel's variance is shrunk
@@ -103,19 +110,14 @@ public:
     static constexpr double kWindowDegreesOfFreedom = 8.0;
 
     uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
-    float mean(size_t pixel, int channel) const {
-        const Accumulator& a = acc_[pixel][channel];
-        return a.count ? float(a.sum / a.count) : 0.0f;
-    }
+    float mean(size_t pixel, int channel) const { return acc_[pixel][channel].mean; }
     // Standard error of the mean from the spread of the units (samples or
     // groups), each weighted by its size: sqrt(sample variance / n) when
     // every unit is one sample.
     float spreadError(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
         if (a.units < 2) return 0.0f;
-        double m = a.sum / a.count;
-        double var = std::max(0.0, (a.sumSq - a.count * m * m) / (double(a.count) * (a.units - 1)));
-        return float(std::sqrt(var));
+        return float(std::sqrt(std::max(0.0, double(a.m2)) / (double(a.count) * (a.units - 1))));
     }
     // The standard error of the mean that pooling gave (poolErrors); 0
     // before pooling or where nothing was pooled.
@@ -138,7 +140,7 @@ public:
     // one estimated quantity). Pixels that used the same one share it too.
     float sharedError(size_t pixel, int channel) const {
         const Accumulator& a = acc_[pixel][channel];
-        return a.count ? float(a.sharedErrorSum / a.count) : 0.0f;
+        return a.count ? a.sharedErrorSum / float(a.count) : 0.0f;
     }
     // The whole standard error of the mean: independent and shared parts.
     float standardError(size_t pixel, int channel) const {
@@ -175,15 +177,26 @@ private:
         if (a.count == 0 || a.hasWithinVariance) return 0;
         return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
     }
-    // Sums over samples, for a pixel or a window of pixels.
+    // Samples' moments, for a pixel or a window of pixels: their count,
+    // units, sum and squared deviations from their mean.
     struct Moments {
-        double count = 0, units = 0, sum = 0, sumSq = 0;
+        double count = 0, units = 0, sum = 0, m2 = 0;
+        // Adds another's samples (Chan et al.'s pairwise update).
+        void add(const Moments& o) {
+            if (o.count == 0) return;
+            if (count > 0) {
+                const double d = o.sum / o.count - sum / count;
+                m2 += d * d * count * o.count / (count + o.count);
+            }
+            count += o.count;
+            units += o.units;
+            sum += o.sum;
+            m2 += o.m2;
+        }
         // The variance of one sample about the moments' own mean, and
         // whether the samples were all equal (or fewer than two units).
-        double perSampleVariance() const {
-            return units < 2 ? 0.0 : std::max(0.0, sumSq - sum * sum / count) / (units - 1);
-        }
-        bool flat() const { return units < 2 || sumSq - sum * sum / count <= 1e-12 * sumSq; }
+        double perSampleVariance() const { return units < 2 ? 0.0 : std::max(0.0, m2) / (units - 1); }
+        bool flat() const { return units < 2 || m2 <= 1e-12 * (m2 + sum * sum / count); }
     };
     // A pixel's pooled samples' residuals (every sample has one where it
     // has a key), and its samples: their residuals where they have a key,
@@ -198,28 +211,27 @@ private:
         return std::sqrt(m.perSampleVariance() * m.count) / a.count;
     }
     struct Accumulator {
-        double sum = 0, sumSq = 0;
-        double sharedErrorSum = 0;  // of the samples' shared standard errors
-        double residualSum = 0;     // of the pooled samples' residuals
-        double residualSqSum = 0;   // of the pooled samples' residuals squared
-        uint32_t count = 0;         // samples
-        uint32_t units = 0;         // independent units (samples or groups)
+        float mean = 0, m2 = 0;                  // of the units (addGroup)
+        float residualMean = 0, residualM2 = 0;  // of the pooled samples' residuals
+        float sharedErrorSum = 0;                // of the samples' shared standard errors
+        float withinVarianceSum = 0;             // of the samples' withinVariance
+        float pooledError = 0;
+        uint32_t count = 0;  // samples
+        uint32_t units = 0;  // independent units (samples or groups)
         uint32_t pooledSamples = 0;
         int32_t poolKey = -1;
         bool poolWhereFlat = false;
         bool hasWithinVariance = false;
         bool pooledOverWindow = false;  // pooledError is the whole independent error
-        float pooledError = 0;
-        float withinVarianceSum = 0;  // of the samples' withinVariance
     };
     std::vector<std::array<Accumulator, kChannels>> acc_;
 };
 
 inline Film::Moments Film::residualMoments(const Accumulator& a) {
-    return {double(a.pooledSamples), double(a.pooledSamples), a.residualSum, a.residualSqSum};
+    return {double(a.pooledSamples), double(a.pooledSamples), double(a.residualMean) * a.pooledSamples, double(a.residualM2)};
 }
 inline Film::Moments Film::momentsOf(const Accumulator& a) {
-    return a.poolKey >= 0 ? residualMoments(a) : Moments{double(a.count), double(a.units), a.sum, a.sumSq};
+    return a.poolKey >= 0 ? residualMoments(a) : Moments{double(a.count), double(a.units), double(a.mean) * a.count, double(a.m2)};
 }
 
 }  // namespace pl

@@ -245,8 +245,8 @@ Scene loadScene(const SceneDescription& d, SceneNeeds needs) {
 }
 
 namespace {
-// What rendering allocates per pixel: the film (3 channels of double sums)
-// and the output images. Throws if that does not fit.
+// What rendering allocates per pixel: the film (3 channels of float
+// moments) and the output images. Throws if that does not fit.
 void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
     uint64_t pixelBytes = uint64_t(sensor.pixelCount()) * 200 + uint64_t(sensor.imageWidth()) * sensor.imageHeight() * 40;
     if (auto why = memoryShortfall(pixelBytes, std::to_string(sensor.pixelCount()) + " sensor pixels", memoryInUseBytes()))
@@ -257,7 +257,7 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 // larger of its two stages, per surface voxel (measured on the 10 mm
 // greek cube, docs/performance.md "Tray-sized models"):
 //  - the render: the sensor (80 bytes; with the patch footprint and its
-//    patches, 100), the film (Film::packedBytesPerPixel, 216), the result
+//    patches, 100), the film (Film::packedBytesPerPixel, 144), the result
 //    grid (70), lighttrace's light tallies (12 bytes for each of
 //    LightTrace::mostTalliesAlive(), and the block's two doubles), and 56
 //    bytes per atlas pixel for the images;
