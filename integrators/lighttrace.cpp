@@ -192,6 +192,20 @@ size_t LightTrace::blockWorkers() {
 
 size_t LightTrace::mostTalliesAlive() { return std::min<size_t>(kBlockParts, 2 * blockWorkers()); }
 
+void LightTrace::ParticleTally::reach(uint32_t pixel) {
+    const size_t slack = std::max<size_t>(score.size() / 2, 4096);
+    size_t lo = score.empty() ? pixel : first, hi = score.empty() ? size_t(pixel) + 1 : first + score.size();
+    if (pixel < lo) lo = pixel >= slack ? pixel - slack : 0;
+    if (pixel >= hi) hi = std::min(size_t(pixel) + 1 + slack, pixels);
+    std::vector<double> widerScore(hi - lo, 0.0);
+    std::vector<float> widerSq(hi - lo, 0.0f);
+    std::copy(score.begin(), score.end(), widerScore.begin() + std::ptrdiff_t(first - lo));
+    std::copy(scoreSq.begin(), scoreSq.end(), widerSq.begin() + std::ptrdiff_t(first - lo));
+    first = lo;
+    score = std::move(widerScore);
+    scoreSq = std::move(widerSq);
+}
+
 void LightTrace::ParticleTally::endParticle() {
     // Each pixel's whole score from the particle, squared.
     std::sort(particle.begin(), particle.end());
@@ -199,7 +213,7 @@ void LightTrace::ParticleTally::endParticle() {
         const uint32_t pixel = particle[i].first;
         double sum = 0;
         for (; i < particle.size() && particle[i].first == pixel; ++i) sum += particle[i].second;
-        scoreSq[pixel] += float(sum * sum);
+        scoreSq[pixel - first] += float(sum * sum);
     }
     particle.clear();
 }
@@ -237,9 +251,9 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
         finished.emplace(part, std::move(tally));
         for (auto it = finished.find(nextToMerge); it != finished.end(); it = finished.find(++nextToMerge)) {
             const ParticleTally& t = it->second;
-            for (size_t p = 0; p < pixels; ++p) {
-                block.score[p] += t.score[p];
-                block.scoreSq[p] += double(t.scoreSq[p]);
+            for (size_t k = 0; k < t.score.size(); ++k) {
+                block.score[t.first + k] += t.score[k];
+                block.scoreSq[t.first + k] += double(t.scoreSq[k]);
             }
             finished.erase(it);
         }
@@ -257,9 +271,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                 merged.wait(lock, [&] { return stopped || part < nextToMerge + alive; });
                 if (stopped) return;
             }
-            ParticleTally tally;
-            tally.score.assign(pixels, 0.0);
-            tally.scoreSq.assign(pixels, 0.0f);
+            ParticleTally tally(pixels);
             PathStats partStats;
             std::vector<SurfacePatches::Piece> pieces;  // the patch particles enter, cut once for them
             for (uint64_t i = units * part / kBlockParts; i < units * (part + 1) / kBlockParts; ++i) {
