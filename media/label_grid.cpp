@@ -7,6 +7,10 @@
 
 #include "media/label_tree.h"
 
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
 namespace pl {
 
 void initializeVdb() {
@@ -172,34 +176,111 @@ uint64_t LabelGrid::memoryBytes() const { return tree_->vdb->memUsage(); }
 namespace pl {
 
 std::vector<SurfaceVoxel> LabelGrid::surfaceVoxels() const {
-    std::vector<SurfaceVoxel> out;
-    openvdb::tree::ValueAccessor<const LabelTreeType> acc(*tree_->vdb);
-    auto isVoid = [&](const Vec3i& v) {
-        return !frame_.contains(v) || acc.getValue(toCoord(v)) == voidLabel_;
+    // Leaves and tiles in parallel, each thread into a list of its own;
+    // the lists are joined and sorted (z, y, x), so the result does not
+    // depend on the threads. A voxel on a tile's edge is found from each of
+    // its faces: the sort puts its finds together and they are merged.
+    using Leaf = LabelTreeType::LeafNodeType;
+    const LabelTreeType& tree = *tree_->vdb;
+    const Label voidLabel = voidLabel_;
+    const GridFrame& frame = frame_;
+    std::vector<const Leaf*> leaves;
+    tree.getNodes(leaves);
+    struct Tile {
+        Vec3i lo, hi;
     };
-    auto check = [&](const Vec3i& v) {
-        uint8_t exposed = 0;
+    std::vector<Tile> tiles;
+    const Vec3i fmax = frame.indexMax();
+    const openvdb::CoordBBox frameBox(toCoord(frame.indexMin), openvdb::Coord(fmax.x - 1, fmax.y - 1, fmax.z - 1));
+    if (frame.voxelCount() == 0) return {};
+    auto tileIt = tree.cbeginValueAll();
+    tileIt.setMaxDepth(LabelTreeType::ValueAllCIter::LEAF_DEPTH - 1);  // tiles only
+    for (; tileIt; ++tileIt) {
+        if (*tileIt == voidLabel) continue;
+        openvdb::CoordBBox box;
+        tileIt.getBoundingBox(box);
+        box.intersect(frameBox);
+        if (!box.empty())
+            tiles.push_back({{box.min().x(), box.min().y(), box.min().z()}, {box.max().x(), box.max().y(), box.max().z()}});
+    }
+
+    using Accessor = openvdb::tree::ValueAccessor<const LabelTreeType>;
+    tbb::enumerable_thread_specific<std::vector<SurfaceVoxel>> found;
+    auto isVoid = [&](Accessor& acc, const Vec3i& v) { return !frame.contains(v) || acc.getValue(toCoord(v)) == voidLabel; };
+    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
+        const Leaf& leaf = *leaves[i];
+        Accessor acc(tree);
+        std::vector<SurfaceVoxel>& out = found.local();
+        const openvdb::Coord origin = leaf.origin();
+        for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
+            if (leaf.getValue(n) == voidLabel) continue;
+            const openvdb::Coord c = leaf.offsetToLocalCoord(n);
+            const Vec3i v{origin.x() + c.x(), origin.y() + c.y(), origin.z() + c.z()};
+            if (!frame.contains(v)) continue;
+            uint8_t exposed = 0;
+            for (int k = 0; k < 6; ++k) {
+                const Vec3i& o = kFaceDirections[k];
+                const int lx = c.x() + o.x, ly = c.y() + o.y, lz = c.z() + o.z;
+                const Vec3i u{v.x + o.x, v.y + o.y, v.z + o.z};
+                const bool inLeaf = lx >= 0 && ly >= 0 && lz >= 0 && lx < int(Leaf::DIM) && ly < int(Leaf::DIM) &&
+                                    lz < int(Leaf::DIM);
+                const bool isVoidThere =
+                    inLeaf ? !frame.contains(u) || leaf.getValue(openvdb::Coord(lx, ly, lz)) == voidLabel : isVoid(acc, u);
+                if (isVoidThere) exposed |= uint8_t(1u << k);
+            }
+            if (exposed) out.push_back({v, exposed});
+        }
+    });
+    // A tile's voxels touch void only across its faces. A face is looked at
+    // in 8 x 8 squares aligned with the leaves: where the voxel across a
+    // square's first is held by a tile (not a leaf) of a material, every
+    // voxel across the square is, and the square is covered.
+    tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
+        const Tile& t = tiles[i];
+        Accessor acc(tree);
+        std::vector<SurfaceVoxel>& out = found.local();
         for (int k = 0; k < 6; ++k) {
             const Vec3i& o = kFaceDirections[k];
-            if (isVoid({v.x + o.x, v.y + o.y, v.z + o.z})) exposed |= uint8_t(1u << k);
+            const int axis = o.x != 0 ? 0 : o.y != 0 ? 1 : 2;
+            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            Vec3i v;
+            v[axis] = o[axis] > 0 ? t.hi[axis] : t.lo[axis];
+            for (int s2 = t.lo[a2]; s2 <= t.hi[a2]; s2 = (s2 & ~7) + 8)
+                for (int s1 = t.lo[a1]; s1 <= t.hi[a1]; s1 = (s1 & ~7) + 8) {
+                    v[a1] = s1;
+                    v[a2] = s2;
+                    const Vec3i across{v.x + o.x, v.y + o.y, v.z + o.z};
+                    if (frame.contains(across)) {
+                        const openvdb::Coord c = toCoord(across);
+                        if (acc.getValueDepth(c) >= 0 && acc.getValueDepth(c) < int(LabelTreeType::DEPTH) - 1 &&
+                            acc.getValue(c) != voidLabel)
+                            continue;  // covered
+                    }
+                    const int e1 = std::min(t.hi[a1], (s1 & ~7) + 7), e2 = std::min(t.hi[a2], (s2 & ~7) + 7);
+                    for (int u2 = s2; u2 <= e2; ++u2)
+                        for (int u1 = s1; u1 <= e1; ++u1) {
+                            v[a1] = u1;
+                            v[a2] = u2;
+                            if (isVoid(acc, {v.x + o.x, v.y + o.y, v.z + o.z})) out.push_back({v, uint8_t(1u << k)});
+                        }
+                }
         }
-        if (exposed) out.push_back({v, exposed});
-    };
-    visitRegions([&](const Vec3i& lo, const Vec3i& hi, Label l) {
-        if (l == voidLabel_) return;
-        // Inside a uniform tile only voxels on the tile's faces can touch void.
-        for (int z = lo.z; z <= hi.z; ++z)
-            for (int y = lo.y; y <= hi.y; ++y) {
-                bool interiorRow = z > lo.z && z < hi.z && y > lo.y && y < hi.y;
-                for (int x = lo.x; x <= hi.x; x = (interiorRow && x == lo.x && hi.x > lo.x) ? hi.x : x + 1)
-                    check({x, y, z});
-            }
     });
-    std::sort(out.begin(), out.end(), [](const SurfaceVoxel& a, const SurfaceVoxel& b) {
+    std::vector<SurfaceVoxel> all;
+    for (const std::vector<SurfaceVoxel>& list : found) all.insert(all.end(), list.begin(), list.end());
+    found.clear();
+    tbb::parallel_sort(all.begin(), all.end(), [](const SurfaceVoxel& a, const SurfaceVoxel& b) {
         return a.voxel.z != b.voxel.z ? a.voxel.z < b.voxel.z
                                       : (a.voxel.y != b.voxel.y ? a.voxel.y < b.voxel.y : a.voxel.x < b.voxel.x);
     });
-    return out;
+    size_t n = 0;
+    for (size_t i = 0; i < all.size(); ++i) {
+        if (n > 0 && all[n - 1].voxel == all[i].voxel) all[n - 1].exposedFaces |= all[i].exposedFaces;
+        else all[n++] = all[i];
+    }
+    all.resize(n);
+    all.shrink_to_fit();
+    return all;
 }
 
 struct LabelGridBuilder::Impl {

@@ -261,7 +261,10 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 //    grid (70), lighttrace's light tallies (12 bytes for each of
 //    LightTrace::mostTalliesAlive(), and the block's two doubles), and 56
 //    bytes per atlas pixel for the images;
-//  - the .glb after it: the sensor, the colours (12), the table from
+//  - the result grid after it (the film let go): the sensor, the
+//    results (24) and the grid's two Vec3 grids, whose 8^3 leaves hold
+//    about 190 bytes a surface voxel;
+//  - the .glb after that: the sensor, the colours (12), the table from
 //    voxel to pixel (40) and the baked atlas (about two texels of 12
 //    bytes per surface voxel, and their PNG: 30).
 void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
@@ -273,8 +276,9 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
         const uint64_t tallyBytes = lighttrace ? 16 + 12 * LightTrace::mostTalliesAlive() : 0;
         const uint64_t renderBytes =
             sensorBytes + (Film::packedBytesPerPixel() + 70 + tallyBytes) * S + 56 * atlasPixels;
+        const uint64_t resultGridBytes = sensorBytes + (24 + 190) * S;
         const uint64_t glbBytes = sensorBytes + (12 + 40 + 30) * S;
-        return std::max(renderBytes, glbBytes);
+        return std::max({renderBytes, resultGridBytes, glbBytes});
     };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
     const bool lighttrace = desc.render.integrator == "lighttrace";
