@@ -1,5 +1,6 @@
-// Per-pixel, per-channel accumulators: running sums give the mean and the
-// standard error of the mean. Each pixel is only touched by the thread that
+// Per-pixel, per-channel accumulators: running moments in float (the mean
+// and the squared deviations from it, Welford's update) give the mean and
+// the standard error of the mean. Each pixel is only touched by the thread that
 // renders it, in sample order, so results do not depend on scheduling.
 #pragma once
 

@@ -106,10 +106,9 @@ Vec3i SurfacePatches::cellOf(const Point3f& x_mm) const {
 }
 
 SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& cell) const {
-    // The cell's index in the frame widened by 2 cells each side (the mesh
-    // lies within a cell of the frame); its brick's index below 2^40, the
-    // triangle above.
-    const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
+    // The cell's index in the widened frame; its brick's index below 2^40,
+    // the triangle above.
+    const Vec3i c = cell - frame_.indexMin + Vec3i{kCellMargin, kCellMargin, kCellMargin};
     const Vec3i r = widenedResolution();
     const Vec3i bricks{(r.x + 7) >> 3, (r.y + 7) >> 3, (r.z + 7) >> 3};
     const Vec3i b{c.x >> 3, c.y >> 3, c.z >> 3};
@@ -118,8 +117,11 @@ SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& 
 }
 
 uint64_t SurfacePatches::partKey(uint32_t prim, const Vec3i& cell) const {
-    const Vec3i c = cell - frame_.indexMin + Vec3i{2, 2, 2};
+    const Vec3i c = cell - frame_.indexMin + Vec3i{kCellMargin, kCellMargin, kCellMargin};
     const Vec3i r = widenedResolution();
+    // A key out of range would name another triangle or cell.
+    if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= r.x || c.y >= r.y || c.z >= r.z)
+        throw std::logic_error("SurfacePatches: a part more than kCellMargin cells beyond the frame");
     return (uint64_t(prim) << 40) | ((uint64_t(c.z) * uint64_t(r.y) + uint64_t(c.y)) * uint64_t(r.x) + uint64_t(c.x));
 }
 
@@ -177,7 +179,8 @@ bool SurfacePatches::forEachPieceOfPart(uint64_t part, absl::FunctionRef<bool(co
     const Vec3i r = widenedResolution();
     const Vec3i c{int(index % uint64_t(r.x)), int(index / uint64_t(r.x) % uint64_t(r.y)),
                   int(index / (uint64_t(r.x) * uint64_t(r.y)))};
-    const Polygon poly = cellPart(trianglePolygon(mesh_, prim, [&](const Point3f& p) { return toCell(p); }), c + frame_.indexMin - Vec3i{2, 2, 2});
+    const Polygon triangle = trianglePolygon(mesh_, prim, [&](const Point3f& p) { return toCell(p); });
+    const Polygon poly = cellPart(triangle, c + frame_.indexMin - Vec3i{kCellMargin, kCellMargin, kCellMargin});
     return fanPieces(prim, poly, [&](const Point3f& p) { return toWorld(p); }, visit);
 }
 
@@ -188,8 +191,8 @@ void SurfacePatches::forEachPiece(size_t pixel, absl::FunctionRef<bool(const Pie
 
 SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame, const std::vector<Vec3i>& voxels)
     : frame_(frame), mesh_(mesh) {
-    const Vec3i& r = frame.resolution;
-    if (mesh.triangleCount() >= (size_t(1) << 24) || double(r.x + 4) * (r.y + 4) * (r.z + 4) >= 0x1p40)
+    const Vec3i w = widenedResolution();
+    if (mesh.triangleCount() >= (size_t(1) << 24) || double(w.x) * w.y * w.z >= 0x1p40)
         throw std::runtime_error("the patch footprint takes at most 2^24 triangles and about 10^12 voxels");
     const NearestSurfaceVoxel table(frame, voxels);
     // The surface voxel whose centre is nearest to p (mm), within two voxels of p's cell.
@@ -226,7 +229,8 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
         const Vec3f e = cross(mesh.positions_mm[idx[1]] - a, mesh.positions_mm[idx[2]] - a);
         if (!(length(e) > 0.0f)) return;  // no area, no normal: no pieces
         triangleNormal_[t] = normalize(e);
-        cutIntoCells(trianglePolygon(mesh, uint32_t(t), [&](const Point3f& p) { return toCell(p); }), 2, Vec3i{0, 0, 0}, [&](const Vec3i& cell, const Polygon& cellPoly) {
+        const Polygon triangle = trianglePolygon(mesh, uint32_t(t), [&](const Point3f& p) { return toCell(p); });
+        cutIntoCells(triangle, 2, Vec3i{0, 0, 0}, [&](const Vec3i& cell, const Polygon& cellPoly) {
             double area = 0.0;
             Vec3f centroid(0, 0, 0);
             fanPieces(uint32_t(t), cellPoly, [&](const Point3f& p) { return toWorld(p); }, [&](const Piece& piece) {
@@ -306,14 +310,17 @@ void SurfacePatches::piecesOf(size_t pixel, std::vector<Piece>& pieces) const {
 std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, float u0, float u1) const {
     thread_local std::vector<Piece> pieces;
     piecesOf(pixel, pieces);
-    return sample(pieces, pixel, u0, u1);
+    return sample(pieces, u0, u1);
 }
 
-std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(const std::vector<Piece>& pieces, size_t pixel, float u0,
+std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(const std::vector<Piece>& pieces, float u0,
                                                                  float u1) const {
     if (pieces.empty()) return std::nullopt;
-    // Pick a piece by area with u0, and reuse what is left of u0 inside it.
-    float target = u0 * float(area_mm2_[pixel]);
+    // The patch's area as area_mm2 adds it (the same bits), then a piece
+    // picked by area with u0, and what is left of u0 reused inside it.
+    double area_mm2 = 0.0;
+    for (const Piece& p : pieces) area_mm2 += p.area_mm2;
+    float target = u0 * float(area_mm2);
     auto p = pieces.begin();
     for (; p + 1 != pieces.end() && target >= p->area_mm2; ++p) target -= p->area_mm2;
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);

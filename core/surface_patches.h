@@ -50,9 +50,9 @@ public:
         uint32_t prim;
     };
     std::optional<PatchPoint> sample(size_t pixel, float u0, float u1) const;
-    // The same from the pixel's pieces, cut once for many samples (piecesOf).
+    // The same from a pixel's pieces, cut once for many samples (piecesOf).
     void piecesOf(size_t pixel, std::vector<Piece>& pieces) const;
-    std::optional<PatchPoint> sample(const std::vector<Piece>& pieces, size_t pixel, float u0, float u1) const;
+    std::optional<PatchPoint> sample(const std::vector<Piece>& pieces, float u0, float u1) const;
 
     // The pixel whose patch holds point x of triangle prim (light tracing
     // scores there); none where no piece of that triangle in x's cell has
@@ -75,9 +75,12 @@ private:
     };
     PieceSlot pieceSlot(uint32_t prim, const Vec3i& cell) const;
     // A part, (triangle, cell), as one number: the triangle above bit 40,
-    // the cell's index in the frame widened by 2 cells each side below.
+    // the cell's index in the frame widened by kCellMargin each side below.
     uint64_t partKey(uint32_t prim, const Vec3i& cell) const;
-    Vec3i widenedResolution() const { return frame_.resolution + Vec3i{4, 4, 4}; }
+    // Parts lie within this many cells of the frame: their owner is within
+    // two voxels of their centroid's cell (and rounding may add one).
+    static constexpr int kCellMargin = 3;
+    Vec3i widenedResolution() const { return frame_.resolution + Vec3i{2 * kCellMargin, 2 * kCellMargin, 2 * kCellMargin}; }
     // Calls visit with a part's pieces in fan order; false once visit is.
     bool forEachPieceOfPart(uint64_t part, absl::FunctionRef<bool(const Piece&)> visit) const;
     // A point in millimetres to cell coordinates (voxel indices, continuous) and back.

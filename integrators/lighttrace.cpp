@@ -193,15 +193,20 @@ size_t LightTrace::blockWorkers() {
 size_t LightTrace::mostTalliesAlive() { return std::min<size_t>(kBlockParts, 2 * blockWorkers()); }
 
 void LightTrace::ParticleTally::reach(uint32_t pixel) {
+    // Widened by half its size, and by at least 4096 pixels (a particle's
+    // first scores spread over its neighbours: few copies from the start).
     const size_t slack = std::max<size_t>(score.size() / 2, 4096);
-    size_t lo = score.empty() ? pixel : first, hi = score.empty() ? size_t(pixel) + 1 : first + score.size();
-    if (pixel < lo) lo = pixel >= slack ? pixel - slack : 0;
-    if (pixel >= hi) hi = std::min(size_t(pixel) + 1 + slack, pixels);
+    const bool empty = score.empty();
+    size_t lo = empty ? pixel : firstPixel, hi = empty ? size_t(pixel) + 1 : firstPixel + score.size();
+    if (pixel <= lo) lo = pixel >= slack ? pixel - slack : 0;
+    if (size_t(pixel) + 1 >= hi) hi = std::min(size_t(pixel) + 1 + slack, sensorPixels);
     std::vector<double> widerScore(hi - lo, 0.0);
     std::vector<float> widerSq(hi - lo, 0.0f);
-    std::copy(score.begin(), score.end(), widerScore.begin() + std::ptrdiff_t(first - lo));
-    std::copy(scoreSq.begin(), scoreSq.end(), widerSq.begin() + std::ptrdiff_t(first - lo));
-    first = lo;
+    if (!empty) {
+        std::copy(score.begin(), score.end(), widerScore.begin() + std::ptrdiff_t(firstPixel - lo));
+        std::copy(scoreSq.begin(), scoreSq.end(), widerSq.begin() + std::ptrdiff_t(firstPixel - lo));
+    }
+    firstPixel = lo;
     score = std::move(widerScore);
     scoreSq = std::move(widerSq);
 }
@@ -213,7 +218,7 @@ void LightTrace::ParticleTally::endParticle() {
         const uint32_t pixel = particle[i].first;
         double sum = 0;
         for (; i < particle.size() && particle[i].first == pixel; ++i) sum += particle[i].second;
-        scoreSq[pixel - first] += float(sum * sum);
+        scoreSq[pixel - firstPixel] += float(sum * sum);
     }
     particle.clear();
 }
@@ -252,8 +257,8 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
         for (auto it = finished.find(nextToMerge); it != finished.end(); it = finished.find(++nextToMerge)) {
             const ParticleTally& t = it->second;
             for (size_t k = 0; k < t.score.size(); ++k) {
-                block.score[t.first + k] += t.score[k];
-                block.scoreSq[t.first + k] += double(t.scoreSq[k]);
+                block.score[t.firstPixel + k] += t.score[k];
+                block.scoreSq[t.firstPixel + k] += double(t.scoreSq[k]);
             }
             finished.erase(it);
         }
@@ -296,7 +301,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                 if (count > 0) patches_.piecesOf(i, pieces);
                 for (int j = 0; j < count; ++j) {
                     const float u0 = rng.uniform(), u1 = rng.uniform();
-                    const auto x = patches_.sample(pieces, i, u0, u1);  // not empty (above)
+                    const auto x = patches_.sample(pieces, u0, u1);  // not empty (above)
                     traceParticle(channel, scene_.geometry->pointAt(x->prim, x->p), weight, medium, rng, tally,
                                   partStats);
                 }

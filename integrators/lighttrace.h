@@ -103,24 +103,23 @@ private:
     // One part of a block's particles, traced by one thread: their scores
     // per pixel, and per pixel the sum of each particle's squared score
     // (float: a variance needs no more), for which the current particle's
-    // scores are kept until it ends. Held for the pixels [first, first +
-    // score.size()) the part's particles have reached so far: they score
+    // scores are kept until it ends. Held for the pixels [firstPixel,
+    // firstPixel + score.size()) the part's particles have reached so far: they score
     // near where they enter, and a part's entries are a run of pixels in
     // z, y, x order, so on a large model a window of the sensor holds them.
     struct ParticleTally {
-        explicit ParticleTally(size_t sensorPixels) : pixels(sensorPixels) {}
-        size_t pixels;
-        size_t first = 0;
+        explicit ParticleTally(size_t pixels) : sensorPixels(pixels) {}
+        size_t sensorPixels;
+        size_t firstPixel = 0;
         std::vector<double> score;
         std::vector<float> scoreSq;
         std::vector<std::pair<uint32_t, double>> particle;
         void add(uint32_t pixel, double value) {
-            if (pixel < first || pixel >= first + score.size()) reach(pixel);
-            score[pixel - first] += value;
+            if (pixel < firstPixel || pixel >= firstPixel + score.size()) reach(pixel);
+            score[pixel - firstPixel] += value;
             particle.emplace_back(pixel, value);
         }
-        // Widens the window to hold the pixel (by half its size at least:
-        // few copies).
+        // Widens the window to hold the pixel.
         void reach(uint32_t pixel);
         void endParticle();
     };

@@ -8,6 +8,7 @@
 #include "media/label_tree.h"
 
 #include <tbb/enumerable_thread_specific.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -99,11 +100,18 @@ std::vector<Label> LabelGrid::toDense() const {
     return out;
 }
 
+namespace {
+// The frame's voxels as an OpenVDB box (inclusive).
+openvdb::CoordBBox frameBoxOf(const GridFrame& frame) {
+    const Vec3i last = frame.indexMax() - Vec3i{1, 1, 1};
+    return {toCoord(frame.indexMin), toCoord(last)};
+}
+}  // namespace
+
 void LabelGrid::visitRegions(
     const std::function<void(const Vec3i&, const Vec3i&, Label)>& fn) const {
-    Vec3i fmin = frame_.indexMin, fmax = frame_.indexMax();
-    openvdb::CoordBBox frameBox(toCoord(fmin), openvdb::Coord(fmax.x - 1, fmax.y - 1, fmax.z - 1));
     if (frame_.voxelCount() == 0) return;
+    const openvdb::CoordBBox frameBox = frameBoxOf(frame_);
     // Everything not covered by the tree's values is background (void): the
     // callers start from void, so visit only stored tiles and voxels.
     for (auto it = tree_->vdb->cbeginValueAll(); it; ++it) {
@@ -190,9 +198,8 @@ std::vector<SurfaceVoxel> LabelGrid::surfaceVoxels() const {
         Vec3i lo, hi;
     };
     std::vector<Tile> tiles;
-    const Vec3i fmax = frame.indexMax();
-    const openvdb::CoordBBox frameBox(toCoord(frame.indexMin), openvdb::Coord(fmax.x - 1, fmax.y - 1, fmax.z - 1));
     if (frame.voxelCount() == 0) return {};
+    const openvdb::CoordBBox frameBox = frameBoxOf(frame);
     auto tileIt = tree.cbeginValueAll();
     tileIt.setMaxDepth(LabelTreeType::ValueAllCIter::LEAF_DEPTH - 1);  // tiles only
     for (; tileIt; ++tileIt) {
@@ -207,63 +214,67 @@ std::vector<SurfaceVoxel> LabelGrid::surfaceVoxels() const {
     using Accessor = openvdb::tree::ValueAccessor<const LabelTreeType>;
     tbb::enumerable_thread_specific<std::vector<SurfaceVoxel>> found;
     auto isVoid = [&](Accessor& acc, const Vec3i& v) { return !frame.contains(v) || acc.getValue(toCoord(v)) == voidLabel; };
-    tbb::parallel_for(size_t(0), leaves.size(), [&](size_t i) {
-        const Leaf& leaf = *leaves[i];
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, leaves.size()), [&](const tbb::blocked_range<size_t>& range) {
         Accessor acc(tree);
         std::vector<SurfaceVoxel>& out = found.local();
-        const openvdb::Coord origin = leaf.origin();
-        for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
-            if (leaf.getValue(n) == voidLabel) continue;
-            const openvdb::Coord c = leaf.offsetToLocalCoord(n);
-            const Vec3i v{origin.x() + c.x(), origin.y() + c.y(), origin.z() + c.z()};
-            if (!frame.contains(v)) continue;
-            uint8_t exposed = 0;
-            for (int k = 0; k < 6; ++k) {
-                const Vec3i& o = kFaceDirections[k];
-                const int lx = c.x() + o.x, ly = c.y() + o.y, lz = c.z() + o.z;
-                const Vec3i u{v.x + o.x, v.y + o.y, v.z + o.z};
-                const bool inLeaf = lx >= 0 && ly >= 0 && lz >= 0 && lx < int(Leaf::DIM) && ly < int(Leaf::DIM) &&
-                                    lz < int(Leaf::DIM);
-                const bool isVoidThere =
-                    inLeaf ? !frame.contains(u) || leaf.getValue(openvdb::Coord(lx, ly, lz)) == voidLabel : isVoid(acc, u);
-                if (isVoidThere) exposed |= uint8_t(1u << k);
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            const Leaf& leaf = *leaves[i];
+            const openvdb::Coord origin = leaf.origin();
+            for (openvdb::Index n = 0; n < Leaf::SIZE; ++n) {
+                if (leaf.getValue(n) == voidLabel) continue;
+                const openvdb::Coord c = leaf.offsetToLocalCoord(n);
+                const Vec3i v{origin.x() + c.x(), origin.y() + c.y(), origin.z() + c.z()};
+                if (!frame.contains(v)) continue;
+                uint8_t exposed = 0;
+                for (int k = 0; k < 6; ++k) {
+                    const Vec3i& o = kFaceDirections[k];
+                    const int lx = c.x() + o.x, ly = c.y() + o.y, lz = c.z() + o.z;
+                    const Vec3i u{v.x + o.x, v.y + o.y, v.z + o.z};
+                    const bool inLeaf = lx >= 0 && ly >= 0 && lz >= 0 && lx < int(Leaf::DIM) && ly < int(Leaf::DIM) &&
+                                        lz < int(Leaf::DIM);
+                    const bool isVoidThere =
+                        inLeaf ? !frame.contains(u) || leaf.getValue(openvdb::Coord(lx, ly, lz)) == voidLabel : isVoid(acc, u);
+                    if (isVoidThere) exposed |= uint8_t(1u << k);
+                }
+                if (exposed) out.push_back({v, exposed});
             }
-            if (exposed) out.push_back({v, exposed});
         }
     });
     // A tile's voxels touch void only across its faces. A face is looked at
     // in 8 x 8 squares aligned with the leaves: where the voxel across a
     // square's first is held by a tile (not a leaf) of a material, every
     // voxel across the square is, and the square is covered.
-    tbb::parallel_for(size_t(0), tiles.size(), [&](size_t i) {
-        const Tile& t = tiles[i];
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size()), [&](const tbb::blocked_range<size_t>& range) {
         Accessor acc(tree);
         std::vector<SurfaceVoxel>& out = found.local();
-        for (int k = 0; k < 6; ++k) {
-            const Vec3i& o = kFaceDirections[k];
-            const int axis = o.x != 0 ? 0 : o.y != 0 ? 1 : 2;
-            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-            Vec3i v;
-            v[axis] = o[axis] > 0 ? t.hi[axis] : t.lo[axis];
-            for (int s2 = t.lo[a2]; s2 <= t.hi[a2]; s2 = (s2 & ~7) + 8)
-                for (int s1 = t.lo[a1]; s1 <= t.hi[a1]; s1 = (s1 & ~7) + 8) {
-                    v[a1] = s1;
-                    v[a2] = s2;
-                    const Vec3i across{v.x + o.x, v.y + o.y, v.z + o.z};
-                    if (frame.contains(across)) {
-                        const openvdb::Coord c = toCoord(across);
-                        if (acc.getValueDepth(c) >= 0 && acc.getValueDepth(c) < int(LabelTreeType::DEPTH) - 1 &&
-                            acc.getValue(c) != voidLabel)
-                            continue;  // covered
-                    }
-                    const int e1 = std::min(t.hi[a1], (s1 & ~7) + 7), e2 = std::min(t.hi[a2], (s2 & ~7) + 7);
-                    for (int u2 = s2; u2 <= e2; ++u2)
-                        for (int u1 = s1; u1 <= e1; ++u1) {
-                            v[a1] = u1;
-                            v[a2] = u2;
-                            if (isVoid(acc, {v.x + o.x, v.y + o.y, v.z + o.z})) out.push_back({v, uint8_t(1u << k)});
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            const Tile& t = tiles[i];
+            for (int k = 0; k < 6; ++k) {
+                const Vec3i& o = kFaceDirections[k];
+                const int axis = o.x != 0 ? 0 : o.y != 0 ? 1 : 2;
+                const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+                Vec3i v;
+                v[axis] = o[axis] > 0 ? t.hi[axis] : t.lo[axis];
+                for (int s2 = t.lo[a2]; s2 <= t.hi[a2]; s2 = (s2 & ~7) + 8)
+                    for (int s1 = t.lo[a1]; s1 <= t.hi[a1]; s1 = (s1 & ~7) + 8) {
+                        v[a1] = s1;
+                        v[a2] = s2;
+                        const Vec3i across{v.x + o.x, v.y + o.y, v.z + o.z};
+                        if (frame.contains(across)) {
+                            const openvdb::Coord c = toCoord(across);
+                            const int depth = acc.getValueDepth(c);  // -1: background; DEPTH - 1: a leaf's voxel
+                            if (depth >= 0 && depth < int(LabelTreeType::DEPTH) - 1 && acc.getValue(c) != voidLabel)
+                                continue;  // covered
                         }
-                }
+                        const int e1 = std::min(t.hi[a1], (s1 & ~7) + 7), e2 = std::min(t.hi[a2], (s2 & ~7) + 7);
+                        for (int u2 = s2; u2 <= e2; ++u2)
+                            for (int u1 = s1; u1 <= e1; ++u1) {
+                                v[a1] = u1;
+                                v[a2] = u2;
+                                if (isVoid(acc, {v.x + o.x, v.y + o.y, v.z + o.z})) out.push_back({v, uint8_t(1u << k)});
+                            }
+                    }
+            }
         }
     });
     std::vector<SurfaceVoxel> all;
