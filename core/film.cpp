@@ -7,30 +7,16 @@
 namespace pl {
 
 void Film::poolErrors(const Sensor* sensor) {
-    struct KeyMoment {
-        double residualSum = 0, residualSqSum = 0;
-        double samples = 0;
-    };
-    std::unordered_map<int32_t, KeyMoment> moments;
+    // Each key's residuals over the render.
+    std::unordered_map<int32_t, Moments> moments;
     for (const auto& pixel : acc_)
         for (const Accumulator& a : pixel)
-            if (a.poolKey >= 0) {
-                KeyMoment& m = moments[a.poolKey];
-                const Moments r = residualMoments(a);
-                m.residualSum += r.sum;
-                m.residualSqSum += r.m2 + (r.count > 0 ? r.sum * r.sum / r.count : 0.0);
-                m.samples += r.count;
-            }
+            if (a.poolKey >= 0) moments[a.poolKey].add(residualMoments(a));
     // Per sample: the second moment of a key's residuals (a bound on the
     // variance) or, pooled where flat, their variance.
     auto keyVariance = [&](const Accumulator& a) {
-        const KeyMoment& m = moments[a.poolKey];
-        double perSample = m.residualSqSum / m.samples;
-        if (a.poolWhereFlat) {
-            const double mean = m.residualSum / m.samples;
-            perSample = m.samples > 1 ? std::max(0.0, perSample - mean * mean) * m.samples / (m.samples - 1) : 0.0;
-        }
-        return perSample;
+        const Moments& m = moments[a.poolKey];
+        return a.poolWhereFlat ? m.perSampleVariance() : (m.m2 + m.sum * m.sum / m.count) / m.count;
     };
     for (auto& pixel : acc_)
         for (Accumulator& a : pixel) {

@@ -105,10 +105,14 @@ Vec3i SurfacePatches::cellOf(const Point3f& x_mm) const {
             int(std::floor(x_mm.z * scale.z + offset.z))};
 }
 
+Vec3i SurfacePatches::widenedCell(const Vec3i& cell) const {
+    return cell - frame_.indexMin + Vec3i{kCellMargin, kCellMargin, kCellMargin};
+}
+
 SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& cell) const {
-    // The cell's index in the widened frame; its brick's index below 2^40,
-    // the triangle above.
-    const Vec3i c = cell - frame_.indexMin + Vec3i{kCellMargin, kCellMargin, kCellMargin};
+    // The cell's brick's index in the widened frame below 2^40, the
+    // triangle above.
+    const Vec3i c = widenedCell(cell);
     const Vec3i r = widenedResolution();
     const Vec3i bricks{(r.x + 7) >> 3, (r.y + 7) >> 3, (r.z + 7) >> 3};
     const Vec3i b{c.x >> 3, c.y >> 3, c.z >> 3};
@@ -117,7 +121,7 @@ SurfacePatches::PieceSlot SurfacePatches::pieceSlot(uint32_t prim, const Vec3i& 
 }
 
 uint64_t SurfacePatches::partKey(uint32_t prim, const Vec3i& cell) const {
-    const Vec3i c = cell - frame_.indexMin + Vec3i{kCellMargin, kCellMargin, kCellMargin};
+    const Vec3i c = widenedCell(cell);
     const Vec3i r = widenedResolution();
     // A key out of range would name another triangle or cell.
     if (c.x < 0 || c.y < 0 || c.z < 0 || c.x >= r.x || c.y >= r.y || c.z >= r.z)
@@ -160,6 +164,14 @@ bool fanPieces(uint32_t prim, const Polygon& cellPoly, ToWorld&& toWorld, Visit&
         if (!visit(SurfacePatches::Piece{w[0], w[i], w[i + 1], pieceArea, prim})) return false;
     }
     return true;
+}
+
+// A patch's area from its pieces, added in order in double: the same bits
+// wherever it is asked for.
+double patchArea_mm2(const std::vector<SurfacePatches::Piece>& pieces) {
+    double area_mm2 = 0.0;
+    for (const SurfacePatches::Piece& p : pieces) area_mm2 += p.area_mm2;
+    return area_mm2;
 }
 
 // Triangle prim of the mesh in cell coordinates.
@@ -262,15 +274,11 @@ SurfacePatches::SurfacePatches(const TriangleMesh& mesh, const GridFrame& frame,
     for (size_t t = 0; t < triangles; ++t)
         for (const CellOwner& o : cellOwners[t]) parts_[next[o.pixel]++] = partKey(uint32_t(t), o.cell);
     next = {};
-    // A patch's area: its pieces' areas added in order.
     area_mm2_.assign(voxels.size(), 0.0);
     tbb::parallel_for(size_t(0), voxels.size(), [&](size_t i) {
-        double area = 0.0;
-        forEachPiece(i, [&](const Piece& p) {
-            area += p.area_mm2;
-            return true;
-        });
-        area_mm2_[i] = area;
+        thread_local std::vector<Piece> pieces;
+        piecesOf(i, pieces);
+        area_mm2_[i] = patchArea_mm2(pieces);
     });
     for (size_t i = 0; i < voxels.size(); ++i) emptyPatches_ += firstPart_[i] == firstPart_[i + 1];
     for (double a : unassigned) unassignedArea_mm2_ += a;
@@ -316,11 +324,8 @@ std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(size_t pixel, f
 std::optional<SurfacePatches::PatchPoint> SurfacePatches::sample(const std::vector<Piece>& pieces, float u0,
                                                                  float u1) const {
     if (pieces.empty()) return std::nullopt;
-    // The patch's area as area_mm2 adds it (the same bits), then a piece
-    // picked by area with u0, and what is left of u0 reused inside it.
-    double area_mm2 = 0.0;
-    for (const Piece& p : pieces) area_mm2 += p.area_mm2;
-    float target = u0 * float(area_mm2);
+    // A piece picked by area with u0, and what is left of u0 reused inside it.
+    float target = u0 * float(patchArea_mm2(pieces));
     auto p = pieces.begin();
     for (; p + 1 != pieces.end() && target >= p->area_mm2; ++p) target -= p->area_mm2;
     const float v0 = std::min(target / p->area_mm2, 0x1.fffffep-1f);

@@ -80,6 +80,8 @@ private:
     // Parts lie within this many cells of the frame: their owner is within
     // two voxels of their centroid's cell (and rounding may add one).
     static constexpr int kCellMargin = 3;
+    // A cell's coordinates in the widened frame (all >= 0 for a part).
+    Vec3i widenedCell(const Vec3i& cell) const;
     Vec3i widenedResolution() const { return frame_.resolution + Vec3i{2 * kCellMargin, 2 * kCellMargin, 2 * kCellMargin}; }
     // Calls visit with a part's pieces in fan order; false once visit is.
     bool forEachPieceOfPart(uint64_t part, absl::FunctionRef<bool(const Piece&)> visit) const;

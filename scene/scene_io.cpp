@@ -254,7 +254,7 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 }
 
 // The surface-voxel sensor's memory, checked before it is made: the
-// larger of its two stages, per surface voxel (measured on the 10 mm
+// largest of its three stages, per surface voxel (measured on the 10 mm
 // greek cube, docs/performance.md "Tray-sized models"):
 //  - the render: the sensor (80 bytes; with the patch footprint and its
 //    patches, 100), the film (Film::packedBytesPerPixel, 144), the result
