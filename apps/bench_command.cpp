@@ -80,11 +80,15 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
     variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
     variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
-    // Light tracing (the sensor must have the patch footprint): scoring at
-    // collisions, along tracks at other spacings, more particles per block.
+    // Light tracing (the sensor must have the patch footprint): the light
+    // side scoring into every pixel (no hybrid), scoring at collisions,
+    // along tracks at other spacings, more particles per block.
     RenderSettings light = v;
     light.integrator = "lighttrace";
     c["lighttrace"] = light;
+    RenderSettings lightEverywhere = light;
+    lightEverywhere.lighttrace.hybrid = false;
+    c["lighttrace-no-hybrid"] = lightEverywhere;
     RenderSettings collisions = light;
     collisions.lighttrace.scoring = LightTraceOptions::Scoring::Collisions;
     c["lighttrace-collisions"] = collisions;

@@ -189,14 +189,24 @@ int renderCommand(const std::vector<std::string>& argv) {
     result.film = Film();
     if (image) writeImage(*image);
     image.reset();
+    // The labels, the sensor and its patches are let go too before the
+    // result grid is built (on a large object that grid is the largest
+    // thing written: about 190 bytes a surface voxel).
+    const size_t pixelCount = sensor->pixelCount();
+    const GridFrame worldFrame = scene.worldFrame();
+    std::vector<Vec3i> voxels;
     if (surface) {
-        std::vector<Vec3i> voxels;
-        for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels())
-            voxels.push_back(px.voxel);
-        writeSurfaceResultVdb(scene.worldFrame(), voxels, results, outputs[2]);
+        voxels.reserve(pixelCount);
+        for (const auto& px : static_cast<const SurfaceVoxelSensor&>(*sensor).pixels()) voxels.push_back(px.voxel);
+    }
+    sensor.reset();
+    scene.medium.reset();
+    scene.clearance.reset();
+    if (surface) {
+        writeSurfaceResultVdb(worldFrame, voxels, results, outputs[2]);
         results.standardError = {};
         try {
-            writePredictionGlb(scene.geometry->mesh(), scene.worldFrame(), voxels, results.mean, outputs[3]);
+            writePredictionGlb(scene.geometry->mesh(), worldFrame, voxels, results.mean, outputs[3]);
         } catch (const GlbTooLarge& e) {
             std::fprintf(stderr, "printlight: warning: %s\n", e.what());
             outputs.pop_back();
@@ -213,7 +223,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                      double(result.stats.leaks) / double(std::max<uint64_t>(result.stats.paths, 1)));
 
     // Summary: wall time, samples, paths per second, scattering events per second.
-    uint64_t samples = uint64_t(sensor->pixelCount()) * sppDone * desc.render.channels.size();
+    uint64_t samples = uint64_t(pixelCount) * sppDone * desc.render.channels.size();
     double s = result.seconds;
     char balls[64] = "";
     if (result.stats.ballEvents)
@@ -222,7 +232,7 @@ int renderCommand(const std::vector<std::string>& argv) {
     std::printf("render %.2f s wall (%.2f s total), %s samples (%s px x %u spp x %zu ch), "
                 "%s paths/s, %s scattering events/s%s%s%s, %d thread(s) -> %s\n",
                 s, secondsSince(t0), withThousands(samples).c_str(),
-                withThousands(sensor->pixelCount()).c_str(), sppDone,
+                withThousands(pixelCount).c_str(), sppDone,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
                 siRate(result.stats.scatterEvents / s).c_str(), balls, controls.c_str(), stopped.c_str(),
                 threads.count, (base.string() + (outputs.size() == 4 ? ".{exr,png,vdb,glb}" : surface ? ".{exr,png,vdb}" : ".{exr,png}")).c_str());

@@ -2,6 +2,8 @@
 // and the squared deviations from it, Welford's update) give the mean and
 // the standard error of the mean. Each pixel is only touched by the thread that
 // renders it, in sample order, so results do not depend on scheduling.
+// A channel whose samples are all in can be settled: its accumulators (48
+// bytes a pixel) give way to what the queries read (20 bytes).
 #pragma once
 
 #include <algorithm>
@@ -49,13 +51,22 @@ struct ChannelSample {
 
 class Film {
 public:
-    explicit Film(size_t pixelCount = 0) : acc_(pixelCount) {}
+    // openChannels false: each channel's accumulators are allocated when
+    // openChannel is called (a render that settles each pass opens each
+    // channel as its pass starts).
+    explicit Film(size_t pixelCount = 0, bool openChannels = true) : pixelCount_(pixelCount) {
+        if (openChannels)
+            for (int c = 0; c < kChannels; ++c) openChannel(c);
+    }
+    void openChannel(int channel) {
+        if (settled_[channel].empty()) acc_[channel].resize(pixelCount_);
+    }
 
-    size_t pixelCount() const { return acc_.size(); }
+    size_t pixelCount() const { return pixelCount_; }
     void add(size_t pixel, int channel, float value) { addGroup(pixel, channel, value, 1); }
     void add(size_t pixel, int channel, const ChannelSample& sample) {
         addGroup(pixel, channel, sample.value, 1);
-        Accumulator& a = acc_[pixel][channel];
+        Accumulator& a = acc_[channel][pixel];
         a.sharedErrorSum += sample.sharedError;
         if (sample.poolKey >= 0) {
             // A pixel's samples share its entry: the first key stands for all.
@@ -81,7 +92,7 @@ public:
     // squared sum would cancel, this has nothing to cancel and stays 0
     // where every unit is equal.
     void addGroup(size_t pixel, int channel, double sumOfSamples, uint32_t k) {
-        Accumulator& a = acc_[pixel][channel];
+        Accumulator& a = acc_[channel][pixel];
         a.count += k;
         a.units += 1;
         const float unitMean = float(sumOfSamples / k);
@@ -102,46 +113,48 @@ public:
     // pooled over the render, stands in: for controlled samples the
     // residuals' second moment (a bound, and the least error they report),
     // for the others their variance. Without a sensor the window is the
-    // pixel alone.
+    // pixel alone. Settled channels stay as they are.
     void poolErrors(const Sensor* sensor = nullptr);
+    // Pools a channel's errors (as poolErrors) and keeps only what the
+    // queries below read: no samples may be added to it after (an open
+    // channel). A render
+    // that settles each channel after its pass holds one channel's
+    // accumulators at a time; the values are those of poolErrors (a
+    // channel never opened: no samples, 0).
+    void settleChannel(int channel, const Sensor* sensor);
+    bool settled(int channel) const { return !settled_[channel].empty() || pixelCount_ == 0; }
     // The neighbourhood: pixels within this many image pixels along each
     // axis (a 5 x 5 window), and the most degrees of freedom its variance
     // counts for beside the pixel's own (units - 1).
     static constexpr int kWindowRadius = 2;
     static constexpr double kWindowDegreesOfFreedom = 8.0;
 
-    uint32_t samples(size_t pixel, int channel) const { return acc_[pixel][channel].count; }
-    float mean(size_t pixel, int channel) const { return acc_[pixel][channel].mean; }
+    uint32_t samples(size_t pixel, int channel) const {
+        return settled(channel) ? settled_[channel][pixel].count : acc_[channel][pixel].count;
+    }
+    float mean(size_t pixel, int channel) const {
+        return settled(channel) ? settled_[channel][pixel].mean : acc_[channel][pixel].mean;
+    }
     // Standard error of the mean from the spread of the units (samples or
     // groups), each weighted by its size: sqrt(sample variance / n) when
     // every unit is one sample.
     float spreadError(size_t pixel, int channel) const {
-        const Accumulator& a = acc_[pixel][channel];
-        if (a.units < 2) return 0.0f;
-        return float(std::sqrt(std::max(0.0, double(a.m2)) / (double(a.count) * (a.units - 1))));
+        return settled(channel) ? settled_[channel][pixel].spreadError : spreadError(acc_[channel][pixel]);
     }
-    // The standard error of the mean that pooling gave (poolErrors); 0
-    // before pooling or where nothing was pooled.
-    float pooledError(size_t pixel, int channel) const { return acc_[pixel][channel].pooledError; }
     // The error independent of other pixels':
     //  - with a part estimated from within (withinVariance): that estimate,
     //    and the rest's random part, pooled where flat or its own spread;
     //  - otherwise, once pooled, the variance shrunk towards the
     //    neighbourhood's (poolErrors); before, the spread.
     float independentError(size_t pixel, int channel) const {
-        const Accumulator& a = acc_[pixel][channel];
-        if (a.hasWithinVariance) {
-            const double rest = a.poolKey < 0 ? 0.0 : residualFlat(a) ? pooledError(pixel, channel) : residualSpread(a);
-            return float(std::sqrt(double(a.withinVarianceSum) / (double(a.count) * a.count) + rest * rest));
-        }
-        return a.pooledOverWindow ? a.pooledError : spreadError(pixel, channel);
+        return settled(channel) ? settled_[channel][pixel].independentError
+                                : independentError(acc_[channel][pixel]);
     }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
     // one estimated quantity). Pixels that used the same one share it too.
     float sharedError(size_t pixel, int channel) const {
-        const Accumulator& a = acc_[pixel][channel];
-        return a.count ? a.sharedErrorSum / float(a.count) : 0.0f;
+        return settled(channel) ? settled_[channel][pixel].sharedError : sharedError(acc_[channel][pixel]);
     }
     // The whole standard error of the mean: independent and shared parts.
     float standardError(size_t pixel, int channel) const {
@@ -149,18 +162,26 @@ public:
     }
     // The accumulators of the listed pixels as bytes, and back into the
     // same pixels of another film (a render split across processes is
-    // gathered pixel by pixel: the bits of one process's render).
+    // gathered pixel by pixel: the bits of one process's render). Not for
+    // settled channels.
     std::vector<char> packPixels(const std::vector<uint32_t>& pixels) const {
-        std::vector<char> bytes(pixels.size() * sizeof(acc_[0]));
+        std::vector<char> bytes(pixels.size() * packedBytesPerPixel());
         for (size_t i = 0; i < pixels.size(); ++i)
-            std::memcpy(bytes.data() + i * sizeof(acc_[0]), &acc_[pixels[i]], sizeof(acc_[0]));
+            for (int c = 0; c < kChannels; ++c)
+                std::memcpy(bytes.data() + (i * kChannels + size_t(c)) * sizeof(Accumulator), &acc_[c][pixels[i]],
+                            sizeof(Accumulator));
         return bytes;
     }
-    static size_t packedBytesPerPixel() { return sizeof(std::array<Accumulator, kChannels>); }
+    static size_t packedBytesPerPixel() { return kChannels * sizeof(Accumulator); }
     void unpackPixels(const std::vector<uint32_t>& pixels, const char* bytes) {
         for (size_t i = 0; i < pixels.size(); ++i)
-            std::memcpy(&acc_[pixels[i]], bytes + i * sizeof(acc_[0]), sizeof(acc_[0]));
+            for (int c = 0; c < kChannels; ++c)
+                std::memcpy(&acc_[c][pixels[i]], bytes + (i * kChannels + size_t(c)) * sizeof(Accumulator),
+                            sizeof(Accumulator));
     }
+    // Bytes a pixel's channel holds before and after it is settled.
+    static size_t bytesPerChannel() { return sizeof(Accumulator); }
+    static size_t settledBytesPerChannel() { return sizeof(Settled); }
 
     RGB meanRGB(size_t pixel) const {
         return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
@@ -204,6 +225,20 @@ private:
     // their values otherwise.
     static Moments residualMoments(const Accumulator& a);
     static Moments momentsOf(const Accumulator& a);
+    static float spreadError(const Accumulator& a) {
+        if (a.units < 2) return 0.0f;
+        return float(std::sqrt(std::max(0.0, double(a.m2)) / (double(a.count) * (a.units - 1))));
+    }
+    static float sharedError(const Accumulator& a) { return a.count ? a.sharedErrorSum / float(a.count) : 0.0f; }
+    static float independentError(const Accumulator& a) {
+        if (a.hasWithinVariance) {
+            const double rest = a.poolKey < 0 ? 0.0 : residualFlat(a) ? a.pooledError : residualSpread(a);
+            return float(std::sqrt(double(a.withinVarianceSum) / (double(a.count) * a.count) + rest * rest));
+        }
+        return a.pooledOverWindow ? a.pooledError : spreadError(a);
+    }
+    // Pools one channel's errors (poolErrors).
+    void poolChannelErrors(int channel, const Sensor* sensor);
     // Whether a pixel's pooled samples' residuals were all equal (or fewer than two).
     static bool residualFlat(const Accumulator& a) { return residualMoments(a).flat(); }
     // The standard error of the mean that the spread of the residuals gives.
@@ -225,7 +260,14 @@ private:
         bool hasWithinVariance = false;
         bool pooledOverWindow = false;  // pooledError is the whole independent error
     };
-    std::vector<std::array<Accumulator, kChannels>> acc_;
+    // What a settled channel keeps of a pixel.
+    struct Settled {
+        float mean, spreadError, independentError, sharedError;
+        uint32_t count;
+    };
+    size_t pixelCount_;
+    std::array<std::vector<Accumulator>, kChannels> acc_;  // per channel, per pixel; empty once settled
+    std::array<std::vector<Settled>, kChannels> settled_;
 };
 
 inline Film::Moments Film::residualMoments(const Accumulator& a) {

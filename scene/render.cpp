@@ -96,7 +96,7 @@ PixelShare PixelShare::ofThisRank(size_t pixelCount) {
 
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
-                   RenderResult& result) {
+                   RenderResult& result, bool lastSamples) {
     // A deterministic estimator's samples are all the same: one says all.
     if (integratorKindOf(settings).deterministic) {
         if (firstSample > 0) return;
@@ -109,6 +109,8 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     std::mutex statsMutex;
     for (int channel : passes) {
         const auto passStart = std::chrono::steady_clock::now();
+        for (int c = 0; c < kChannels; ++c)
+            if (channel < 0 || c == channel) result.film.openChannel(c);
         if (integrator.scoresLightPaths())
             renderWithLightPaths(integrator, scene, sensor, settings, share, firstSample, count, channel, progress,
                                  result);
@@ -153,10 +155,17 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
         if (channel >= 0)
             result.passSeconds[channel] +=
                 float(std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count());
+        if (lastSamples && channel >= 0 && !share.acrossRanks && !interruptRequested())
+            result.film.settleChannel(channel, &sensor);
     }
     throwIfInterrupted();
     progress.finish();
-    if (!share.acrossRanks) result.film.poolErrors(&sensor);  // across ranks: rank 0, once gathered
+    if (!share.acrossRanks) {  // across ranks: rank 0, once gathered
+        if (lastSamples)
+            for (int c = 0; c < kChannels; ++c) result.film.settleChannel(c, &sensor);
+        else
+            result.film.poolErrors(&sensor);
+    }
     result.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -203,9 +212,11 @@ std::vector<uint32_t> renderClaimedChunks(const Integrator& integrator, const Sc
 }  // namespace
 
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
-    RenderResult result{Film(sensor.pixelCount())};
     const auto start = std::chrono::steady_clock::now();
     PixelShare share{{}, acrossRanks && Distributed::ranks() > 1};  // its pixels: below
+    // In one process each channel is opened as its pass starts and settled
+    // as it ends (renderSamples); across ranks every film is gathered whole.
+    RenderResult result{Film(sensor.pixelCount(), share.acrossRanks)};
     const double communicatedBefore = Distributed::secondsCommunicating();
     // Across ranks every rank has its integrator before any deals or waits.
     std::unique_ptr<Integrator> integrator;
@@ -218,7 +229,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
             return;
         }
         if (share.acrossRanks) share = PixelShare::ofThisRank(sensor.pixelCount());
-        renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result);
+        renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result, true);
     };
     runOnEveryRank(make, share.acrossRanks);
     runOnEveryRank(work, share.acrossRanks);

@@ -88,10 +88,13 @@ struct PixelShare {
 // Adds samples [firstSample, firstSample + count) of the share's pixels to
 // result.film, for every channel of the settings. Sample s of pixel p is
 // the same path whichever call (or rank) renders it, so a render in rounds
-// or across ranks gives the bits of a render in one go.
+// or across ranks gives the bits of a render in one go. lastSamples: no
+// call adds more, so each channel's pass is settled as soon as it ends
+// (Film::settleChannel; in one process): one channel's accumulators alive
+// at a time, and the same values as pooling them all at the end.
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
-                   RenderResult& result);
+                   RenderResult& result, bool lastSamples = false);
 
 // A share across MPI ranks: rank 0's film receives every rank's pixels
 // (and pools the errors over them all, with the sensor's neighbourhoods);

@@ -275,6 +275,60 @@ TEST(LightTrace, SameBitsForOneAndTwoThreads) {
     EXPECT_TRUE(differs);
 }
 
+// A one-shot render opens each channel as its pass starts and settles it
+// after (Film::settleChannel): the same means and errors, bit for bit, as
+// the channels' accumulators pooled together at the end, on the hybrid's
+// box (light-side blocks, printpt's controls and pools) and with volpath.
+TEST(LightTrace, SettlingEachPassKeepsTheValues) {
+    MaterialTable t = test::tableOf({{0, material({200, 200, 200}, {0.2f, 0.9f, 0.95f}, {0.3f, 0.3f, 0.3f})},
+                                     {4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
+    auto labels = [](const Vec3i& v) {
+        if (v.x < 32) return Label(4);
+        return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 2 ? 4 : 0);
+    };
+    const Scene box = test::boxScene({40, 10, 8}, kVoxel_mm, labels, t, 1.5f);
+    SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
+                              SurfaceVoxelSensor::Footprint::Patch);
+    for (const char* integrator : {"lighttrace", "volpath"}) {
+        RenderSettings s;
+        s.integrator = integrator;
+        s.spp = 3;
+        const RenderResult settled = render(box, sensor, s);
+        RenderResult pooled{Film(sensor.pixelCount())};
+        renderSamples(*makeIntegrator(box, sensor, s), box, sensor, s, {}, 0, s.spp, pooled);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_TRUE(settled.film.settled(c));
+            EXPECT_FALSE(pooled.film.settled(c));
+        }
+        size_t withError = 0, withSharedError = 0;
+        for (size_t p = 0; p < sensor.pixelCount(); ++p)
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(settled.film.mean(p, c), pooled.film.mean(p, c)) << integrator;
+                ASSERT_EQ(settled.film.samples(p, c), pooled.film.samples(p, c)) << integrator;
+                ASSERT_EQ(settled.film.spreadError(p, c), pooled.film.spreadError(p, c)) << integrator;
+                ASSERT_EQ(settled.film.independentError(p, c), pooled.film.independentError(p, c)) << integrator;
+                ASSERT_EQ(settled.film.sharedError(p, c), pooled.film.sharedError(p, c)) << integrator;
+                withError += settled.film.independentError(p, c) > 0.0f;
+                withSharedError += settled.film.sharedError(p, c) > 0.0f;
+            }
+        EXPECT_GT(withError, sensor.pixelCount() * 2) << integrator;
+        if (std::string(integrator) == "lighttrace") {
+            EXPECT_GT(withSharedError, 0u);
+        }
+    }
+    // A channel not rendered is opened by no pass: settled with no samples.
+    RenderSettings green;
+    green.integrator = "volpath";
+    green.spp = 2;
+    green.channels = {1};
+    const RenderResult g = render(box, sensor, green);
+    for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+        ASSERT_EQ(g.film.samples(p, 0), 0u);
+        ASSERT_EQ(g.film.mean(p, 2), 0.0f);
+        ASSERT_EQ(g.film.samples(p, 1), 2u);
+    }
+}
+
 // A notch of void under a flat face: the voxels behind it are surface
 // voxels the mesh does not cross (empty patches). printpt serves them along
 // the sensor's ray, the light side the rest.
