@@ -116,11 +116,10 @@ public:
     // pixel alone. Settled channels stay as they are.
     void poolErrors(const Sensor* sensor = nullptr);
     // Pools a channel's errors (as poolErrors) and keeps only what the
-    // queries below read: no samples may be added to it after (an open
-    // channel). A render
-    // that settles each channel after its pass holds one channel's
-    // accumulators at a time; the values are those of poolErrors (a
-    // channel never opened: no samples, 0).
+    // queries below read; no samples may be added to it after. A render
+    // that opens each channel as its pass starts and settles it after
+    // holds one channel's accumulators at a time; the values are those of
+    // poolErrors (a channel never opened: no samples, 0).
     void settleChannel(int channel, const Sensor* sensor);
     bool settled(int channel) const { return !settled_[channel].empty() || pixelCount_ == 0; }
     // The neighbourhood: pixels within this many image pixels along each

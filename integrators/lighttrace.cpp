@@ -121,18 +121,22 @@ void LightTrace::decideEmissionShares() {
         std::unordered_set<uint64_t> lit;
         for (size_t p = 0; p < sensor_.pixelCount(); ++p)
             if (lightServes_[c][p]) lit.insert(brickKey(MajorantGrid::brickOf(sensor_.pixels()[p].voxel)));
-        emissionShare_[c].assign(sensor_.pixelCount(), kFarEmissionShare);
+        nearLitPixels_[c].assign(sensor_.pixelCount(), 0);
         for (size_t p = 0; p < sensor_.pixelCount(); ++p) {
             const Vec3i b = MajorantGrid::brickOf(sensor_.pixels()[p].voxel);
-            for (int dz = -1; dz <= 1 && emissionShare_[c][p] < 1.0f; ++dz)
-                for (int dy = -1; dy <= 1 && emissionShare_[c][p] < 1.0f; ++dy)
+            for (int dz = -1; dz <= 1 && !nearLitPixels_[c][p]; ++dz)
+                for (int dy = -1; dy <= 1 && !nearLitPixels_[c][p]; ++dy)
                     for (int dx = -1; dx <= 1; ++dx)
                         if (lit.count(brickKey({b.x + dx, b.y + dy, b.z + dz}))) {
-                            emissionShare_[c][p] = 1.0f;
+                            nearLitPixels_[c][p] = 1;
                             break;
                         }
         }
     }
+}
+
+float LightTrace::emissionShare(int channel, size_t pixel) const {
+    return nearLitPixels_[channel][pixel] ? 1.0f : kFarEmissionShare;
 }
 
 size_t LightTrace::cameraOnlyPixels(int channel) const {
@@ -294,7 +298,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                     continue;
                 }
                 if (patches_.area_mm2(i) == 0.0) continue;  // an empty patch: nothing enters there
-                const double expected = particlesPerPixel * emissionShare_[channel][i];
+                const double expected = particlesPerPixel * emissionShare(channel, i);
                 const double whole = std::floor(expected);
                 const int count = int(whole) + (rng.uniform() < expected - whole ? 1 : 0);
                 const double weight = Le * kPi * patches_.area_mm2(i) / expected;

@@ -123,7 +123,7 @@ private:
         void reach(uint32_t pixel);
         void endParticle();
     };
-    // Sets emissionShare_ from lightServes_.
+    // Sets nearLitPixels_ from lightServes_.
     void decideEmissionShares();
     // A point uniform by area over the mesh.
     SurfaceHit entryOnMesh(Rng& rng) const;
@@ -151,10 +151,12 @@ private:
     // Per channel and pixel: whether the light side scores into it (bytes:
     // prepare writes them from several threads).
     std::array<std::vector<uint8_t>, 3> lightServes_;
-    // Per channel and pixel: its patch's share of particlesPerPixel per
-    // block (stratified entries): 1 near the pixels the light side scores
-    // into, less far from them.
-    std::array<std::vector<float>, 3> emissionShare_;
+    // Per channel and pixel: whether its patch is near the pixels the light
+    // side scores into (its brick or a neighbour holds one). Its share of
+    // particlesPerPixel per block (stratified entries) is 1 there and
+    // kFarEmissionShare elsewhere (emissionShare).
+    std::array<std::vector<uint8_t>, 3> nearLitPixels_;
+    float emissionShare(int channel, size_t pixel) const;
     double meshArea_mm2_ = 0;
     RGB trackSpacing_mm_{};  // per channel (Scoring::Tracks)
 };

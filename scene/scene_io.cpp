@@ -4,6 +4,7 @@
 
 #include "core/film.h"
 #include "integrators/lighttrace.h"
+#include "runtime/distributed.h"
 #include "runtime/memory_budget.h"
 #include "scene/homogeneous_core.h"
 #include "scene/registry.h"
@@ -254,31 +255,39 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 }
 
 // The surface-voxel sensor's memory, checked before it is made: the
-// largest of its three stages, per surface voxel (measured on the 10 mm
-// greek cube, docs/performance.md "Tray-sized models"):
+// largest of its stages, per surface voxel (measured on the 10 mm greek
+// cube, docs/performance.md "Memory of the main job"):
 //  - the render: the sensor (80 bytes; with the patch footprint and its
-//    patches, 100), the film (Film::packedBytesPerPixel, 144), the result
-//    grid (70), lighttrace's light tallies (12 bytes for each of
-//    LightTrace::mostTalliesAlive(), and the block's two doubles), and 56
-//    bytes per atlas pixel for the images;
-//  - the result grid after it (the film let go): the sensor, the
-//    results (24) and the grid's two Vec3 grids, whose 8^3 leaves hold
-//    about 190 bytes a surface voxel;
-//  - the .glb after that: the sensor, the colours (12), the table from
+//    patches, 100) and the film: in one process one channel's
+//    accumulators and two settled channels while the last pass runs
+//    (Film::settleChannel), with lighttrace's light tallies (12 bytes for
+//    each of LightTrace::mostTalliesAlive(), and the block's two
+//    doubles); across MPI ranks all three channels' accumulators;
+//  - the images after it: the settled film, the results (24) and 56
+//    bytes per atlas pixel;
+//  - the result grid, once the film, the sensor and the labels are let go
+//    (apps/render_command.cpp): the voxels (12), the results and the two
+//    Vec3 grids, whose 8^3 leaves hold about 190 bytes a surface voxel;
+//  - the .glb after that: the voxels, the colours (12), the table from
 //    voxel to pixel (40) and the baked atlas (about two texels of 12
 //    bytes per surface voxel, and their PNG: 30).
+// The last two stages come after what is in use now (the scene) is let
+// go.
 void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& frame, size_t surfaceVoxels) {
     const Vec3i& r = frame.resolution;
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
-    const uint64_t S = surfaceVoxels;
+    const uint64_t S = surfaceVoxels, inUse = memoryInUseBytes();
+    const bool oneProcess = Distributed::ranks() == 1;
+    const uint64_t filmBytes = oneProcess ? Film::bytesPerChannel() + 2 * Film::settledBytesPerChannel()
+                                          : Film::packedBytesPerPixel();
+    const uint64_t settledFilmBytes = oneProcess ? 3 * Film::settledBytesPerChannel() : Film::packedBytesPerPixel();
     auto peakBytes = [&](bool patch, bool lighttrace) {
         const uint64_t sensorBytes = (patch ? 100 : 80) * S;
         const uint64_t tallyBytes = lighttrace ? 16 + 12 * LightTrace::mostTalliesAlive() : 0;
-        const uint64_t renderBytes =
-            sensorBytes + (Film::packedBytesPerPixel() + 70 + tallyBytes) * S + 56 * atlasPixels;
-        const uint64_t resultGridBytes = sensorBytes + (24 + 190) * S;
-        const uint64_t glbBytes = sensorBytes + (12 + 40 + 30) * S;
-        return std::max({renderBytes, resultGridBytes, glbBytes});
+        const uint64_t renderBytes = sensorBytes + (filmBytes + tallyBytes) * S;
+        const uint64_t imageBytes = sensorBytes + (settledFilmBytes + 24) * S + 56 * atlasPixels;
+        const uint64_t afterScene = std::max((12 + 24 + 190) * S, (12 + 12 + 40 + 30) * S);
+        return std::max({renderBytes, imageBytes, afterScene - std::min(afterScene, inUse)});
     };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
     const bool lighttrace = desc.render.integrator == "lighttrace";
@@ -288,7 +297,7 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     auto less = [&](uint64_t other) { return std::to_string((bytes - std::min(bytes, other)) >> 20) + " MiB less"; };
     if (patch) remedy = "the ray footprint with volpath or printpt needs " + less(peakBytes(false, false)) + "; " + remedy;
     if (lighttrace) remedy = "volpath or printpt need " + less(peakBytes(patch, false)) + "; " + remedy;
-    if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", memoryInUseBytes(), remedy))
+    if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", inUse, remedy))
         throw InputError(desc.sceneFile.string(), *why);
 }
 }  // namespace
