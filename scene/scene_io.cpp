@@ -294,9 +294,13 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const uint64_t bytes = peakBytes(patch, lighttrace);
     std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks do not help (each "
                          "holds the whole sensor)";
-    auto less = [&](uint64_t other) { return std::to_string((bytes - std::min(bytes, other)) >> 20) + " MiB less"; };
-    if (patch) remedy = "the ray footprint with volpath or printpt needs " + less(peakBytes(false, false)) + "; " + remedy;
-    if (lighttrace) remedy = "volpath or printpt need " + less(peakBytes(patch, false)) + "; " + remedy;
+    // Other estimators or footprints, where they would need less.
+    auto offer = [&](uint64_t other, const std::string& what) {
+        const uint64_t saved_MiB = (bytes - std::min(bytes, other)) >> 20;
+        if (saved_MiB > 0) remedy = what + std::to_string(saved_MiB) + " MiB less; " + remedy;
+    };
+    if (patch) offer(peakBytes(false, false), "the ray footprint with volpath or printpt needs ");
+    if (lighttrace) offer(peakBytes(patch, false), "volpath or printpt need ");
     if (auto why = memoryShortfall(bytes, std::to_string(surfaceVoxels) + " surface voxels", inUse, remedy))
         throw InputError(desc.sceneFile.string(), *why);
 }

@@ -429,14 +429,14 @@ TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
                               s.out().string(), s.dir);
     ::unsetenv("PRINTLIGHT_MEMORY_LIMIT_MB");
     expectCleanFailure(s, r, "cube10_greek.vdb", "of memory; this machine has 1.0 MiB (refused before allocating)");
-    // The scene fits in 300 MiB, its surface sensor and film (~0.27 GB) on top do not: refused before they are
-    // made, with what would fit.
-    ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "300", 1);
+    // The scene fits in 200 MiB (about 160 in use), its surface sensor, film and images (~86 MiB) on top do
+    // not: refused before they are made, with what would fit.
+    ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "200", 1);
     r = printlight("render " + (test::sourceDir() / "data/scenes/cube10_greek_surface.json").string() + " -o " +
                    s.out().string(), s.dir);
     ::unsetenv("PRINTLIGHT_MEMORY_LIMIT_MB");
     expectCleanFailure(s, r, "cube10_greek_surface.json", "318634 surface voxels needs about");
-    EXPECT_NE(r.err.find("volpath or printpt need"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("the ray footprint with volpath or printpt needs"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("prepare --voxel"), std::string::npos) << r.err;
     // prepare: a 0.02 mm grid of the 10 mm cube (~1.4e8 voxels) against 64 MiB.
     ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "64", 1);
