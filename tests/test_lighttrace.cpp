@@ -145,18 +145,23 @@ TEST(LightTrace, AgreesWithVolpathOnOneMaterial) {
                                "collisions", false, LightTraceOptions::Scoring::Collisions);
 }
 
-// The hybrid: printpt takes the pixels over one resin (the first four 8^3
-// bricks along x, white) and the light side those over the halftone
-// (x >= 32); particles enter the first two bricks at a lower rate, weighted
-// back. Together they agree with volpath.
-TEST(LightTrace, HybridAgreesWithVolpath) {
+// A box of one resin over its first four 8^3 bricks along x (white) and a
+// halftone of two beyond (x >= 32).
+Scene hybridBox() {
     MaterialTable t = test::tableOf({{0, material({200, 200, 200}, {0.2f, 0.9f, 0.95f}, {0.3f, 0.3f, 0.3f})},
                                      {4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
     auto labels = [](const Vec3i& v) {
         if (v.x < 32) return Label(4);
         return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 2 ? 4 : 0);
     };
-    const Scene box = test::boxScene({40, 10, 8}, kVoxel_mm, labels, t, 1.5f);
+    return test::boxScene({40, 10, 8}, kVoxel_mm, labels, t, 1.5f);
+}
+
+// The hybrid: printpt takes the pixels over one resin and the light side
+// those over the halftone (hybridBox); particles enter the first two
+// bricks at a lower rate, weighted back. Together they agree with volpath.
+TEST(LightTrace, HybridAgreesWithVolpath) {
+    const Scene box = hybridBox();
     SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
                               SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
@@ -280,13 +285,7 @@ TEST(LightTrace, SameBitsForOneAndTwoThreads) {
 // the channels' accumulators pooled together at the end, on the hybrid's
 // box (light-side blocks, printpt's controls and pools) and with volpath.
 TEST(LightTrace, SettlingEachPassKeepsTheValues) {
-    MaterialTable t = test::tableOf({{0, material({200, 200, 200}, {0.2f, 0.9f, 0.95f}, {0.3f, 0.3f, 0.3f})},
-                                     {4, material({200, 300, 300}, {0.95f, 0.9f, 0.97f}, {0.4f, 0.0f, 0.6f})}});
-    auto labels = [](const Vec3i& v) {
-        if (v.x < 32) return Label(4);
-        return Label(mix64(uint64_t(v.x) * 73856093u ^ uint64_t(v.y) * 19349663u ^ uint64_t(v.z) * 83492791u) % 2 ? 4 : 0);
-    };
-    const Scene box = test::boxScene({40, 10, 8}, kVoxel_mm, labels, t, 1.5f);
+    const Scene box = hybridBox();
     SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
                               SurfaceVoxelSensor::Footprint::Patch);
     for (const char* integrator : {"lighttrace", "volpath"}) {
