@@ -1,39 +1,19 @@
 #include "core/film.h"
 
-#include <unordered_map>
 
+#include "core/image_neighbourhood.h"
 #include "core/sensors.h"
 
 namespace pl {
 
-void Film::poolErrors(const Sensor* sensor) {
-    for (int c = 0; c < kChannels; ++c)
-        if (!settled(c)) poolChannelErrors(c, sensor);
-}
-
-void Film::settleChannel(int channel, const Sensor* sensor) {
-    if (settled(channel)) return;
-    poolChannelErrors(channel, sensor);
+template <class PixelOf, class SamplesOf>
+void Film::poolWith(int channel, const KeyPools& keys, const ImageNeighbourhood& near, PixelOf pixelOf,
+                    SamplesOf samplesOf) {
     std::vector<Accumulator>& acc = acc_[size_t(channel)];
-    std::vector<Settled>& out = settled_[size_t(channel)];
-    out.assign(pixelCount_, Settled{0, 0, 0, 0, 0});  // a channel never opened: no samples
-    for (size_t p = 0; p < acc.size(); ++p) {
-        const Accumulator& a = acc[p];
-        out[p] = {a.mean, spreadError(a), independentError(a), sharedError(a), a.count};
-    }
-    std::vector<Accumulator>().swap(acc);
-}
-
-void Film::poolChannelErrors(int channel, const Sensor* sensor) {
-    std::vector<Accumulator>& acc = acc_[size_t(channel)];
-    // Each key's residuals over the render (a key is of one channel).
-    std::unordered_map<int32_t, Moments> moments;
-    for (const Accumulator& a : acc)
-        if (a.poolKey >= 0) moments[a.poolKey].add(residualMoments(a));
     // Per sample: the second moment of a key's residuals (a bound on the
     // variance) or, pooled where flat, their variance.
     auto keyVariance = [&](const Accumulator& a) {
-        const Moments& m = moments[a.poolKey];
+        const Moments& m = keys.at(a.poolKey);
         return a.poolWhereFlat ? m.perSampleVariance() : (m.m2 + m.sum * m.sum / m.count) / m.count;
     };
     for (Accumulator& a : acc) {
@@ -41,33 +21,16 @@ void Film::poolChannelErrors(int channel, const Sensor* sensor) {
         a.pooledError = float(std::sqrt(keyVariance(a) * a.pooledSamples) / a.count);
     }
 
-    // The neighbourhood in the sensor's image: pixel by image position.
-    const int width = sensor ? sensor->imageWidth() : 0, height = sensor ? sensor->imageHeight() : 0;
-    std::vector<int32_t> pixelAt(size_t(width) * size_t(height), -1);
-    for (size_t p = 0; sensor && p < acc.size(); ++p)
-        if (const int64_t i = sensor->pixelImageIndex(p); i >= 0) pixelAt[size_t(i)] = int32_t(p);
-    for (size_t p = 0; p < acc.size(); ++p) {
-        Accumulator& a = acc[p];
+    // The neighbourhood in the sensor's image.
+    for (size_t i = 0; i < acc.size(); ++i) {
+        Accumulator& a = acc[i];
         const int kind = windowKind(a);
         if (kind == 0) continue;
         Moments window;
-        auto addPixel = [&](size_t q) {
-            const Accumulator& b = acc[q];
-            if (windowKind(b) != kind) return;
-            window.add(momentsOf(b));
-        };
-        const int64_t imageIndex = sensor ? sensor->pixelImageIndex(p) : -1;
-        if (imageIndex < 0) addPixel(p);
-        else {
-            const int x = int(imageIndex % width), y = int(imageIndex / width);
-            for (int dy = -kWindowRadius; dy <= kWindowRadius; ++dy)
-                for (int dx = -kWindowRadius; dx <= kWindowRadius; ++dx) {
-                    const int qx = x + dx, qy = y + dy;
-                    if (qx < 0 || qy < 0 || qx >= width || qy >= height) continue;
-                    const int32_t q = pixelAt[size_t(qy) * size_t(width) + size_t(qx)];
-                    if (q >= 0) addPixel(size_t(q));
-                }
-        }
+        near.forEachNear(pixelOf(i), kWindowRadius, [&](size_t q) {
+            const WindowSamples b = samplesOf(q);
+            if (b.kind == kind) window.add(b.moments());
+        });
         // The window's variance (the key's where it is flat) as a prior
         // worth at most kWindowDegreesOfFreedom, and the pixel's own
         // with units - 1.
@@ -89,6 +52,67 @@ void Film::poolChannelErrors(int channel, const Sensor* sensor) {
         a.pooledError = float(kind == 1 ? std::max(shrunk, double(a.pooledError)) : shrunk);
         a.pooledOverWindow = true;
     }
+}
+
+void Film::poolErrors(const Sensor* sensor) {
+    for (int c = 0; c < kChannels; ++c)
+        if (!settled(c)) poolChannelErrors(c, sensor);
+}
+
+void Film::settleChannel(int channel, const Sensor* sensor) {
+    if (settled(channel)) return;
+    poolChannelErrors(channel, sensor);
+    keepSettled(channel);
+}
+
+void Film::keepSettled(int channel) {
+    std::vector<Accumulator>& acc = acc_[size_t(channel)];
+    std::vector<Settled>& out = settled_[size_t(channel)];
+    out.assign(pixelCount_, Settled{0, 0, 0, 0, 0});  // a channel never opened: no samples
+    for (size_t p = 0; p < acc.size(); ++p) {
+        const Accumulator& a = acc[p];
+        out[p] = {a.mean, spreadError(a), independentError(a), sharedError(a), a.count};
+    }
+    std::vector<Accumulator>().swap(acc);
+}
+
+void Film::poolChannelErrors(int channel, const Sensor* sensor) {
+    const std::vector<Accumulator>& acc = acc_[size_t(channel)];
+    // Each key's residuals over the render (a key is of one channel).
+    KeyPools keys;
+    for (const Accumulator& a : acc)
+        if (a.poolKey >= 0) keys[a.poolKey].add(residualMoments(a));
+    poolWith(channel, keys, ImageNeighbourhood(sensor, acc.size()), [](size_t i) { return i; },
+             [&](size_t q) { return windowSamplesOf(acc[q]); });
+}
+
+std::vector<Film::PixelResiduals> Film::residuals(int channel) const {
+    const std::vector<Accumulator>& acc = acc_[size_t(channel)];
+    std::vector<PixelResiduals> out(pixelCount_);  // a channel never opened: none
+    for (size_t i = 0; i < acc.size(); ++i)
+        out[i] = {acc[i].poolKey, acc[i].pooledSamples, acc[i].residualMean, acc[i].residualM2};
+    return out;
+}
+
+void Film::settleShare(int channel, const Sensor& sensor, const KeyPools& keys, const std::vector<uint32_t>& pixels,
+                       const std::function<WindowSamples(uint32_t)>& samplesOf) {
+    poolWith(channel, keys, ImageNeighbourhood(&sensor, sensor.pixelCount()), [&](size_t i) { return pixels[i]; },
+             [&](size_t q) { return samplesOf(uint32_t(q)); });
+    keepSettled(channel);
+}
+
+std::vector<char> Film::packSettled(int channel) const {
+    const std::vector<Settled>& values = settled_[size_t(channel)];
+    std::vector<char> bytes(values.size() * sizeof(Settled));
+    if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+    return bytes;
+}
+
+void Film::unpackSettled(int channel, const std::vector<uint32_t>& pixels, const char* bytes) {
+    std::vector<Settled>& values = settled_[size_t(channel)];
+    if (values.empty()) values.assign(pixelCount_, Settled{0, 0, 0, 0, 0});
+    std::vector<Accumulator>().swap(acc_[size_t(channel)]);
+    for (size_t i = 0; i < pixels.size(); ++i) std::memcpy(&values[pixels[i]], bytes + i * sizeof(Settled), sizeof(Settled));
 }
 
 }  // namespace pl

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <functional>
+#include <unordered_map>
 #include <vector>
 
 #include "core/rgb.h"
@@ -18,6 +20,7 @@
 namespace pl {
 
 class Sensor;
+class ImageNeighbourhood;
 
 // One sample of one channel as an estimator returns it: its value, and
 // what its error has that the spread of a pixel's samples cannot show.
@@ -178,26 +181,6 @@ public:
                 std::memcpy(&acc_[c][pixels[i]], bytes + (i * kChannels + size_t(c)) * sizeof(Accumulator),
                             sizeof(Accumulator));
     }
-    // Bytes a pixel's channel holds before and after it is settled.
-    static size_t bytesPerChannel() { return sizeof(Accumulator); }
-    static size_t settledBytesPerChannel() { return sizeof(Settled); }
-
-    RGB meanRGB(size_t pixel) const {
-        return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
-    }
-    RGB standardErrorRGB(size_t pixel) const {
-        return {standardError(pixel, 0), standardError(pixel, 1), standardError(pixel, 2)};
-    }
-
-private:
-    struct Accumulator;
-    // The kind of a pixel's samples, for its neighbourhood: 0 with a part
-    // estimated from within (no window), 1 with a control, 2 pooled where
-    // flat, 3 neither.
-    static int windowKind(const Accumulator& a) {
-        if (a.count == 0 || a.hasWithinVariance) return 0;
-        return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
-    }
     // Samples' moments, for a pixel or a window of pixels: their count,
     // units, sum and squared deviations from their mean.
     struct Moments {
@@ -219,11 +202,80 @@ private:
         double perSampleVariance() const { return units < 2 ? 0.0 : std::max(0.0, m2) / (units - 1); }
         bool flat() const { return units < 2 || m2 <= 1e-12 * (m2 + sum * sum / count); }
     };
+
+    // Error pooling over a film that holds one share of the pixels (an MPI
+    // rank's): the pooling of one film over all of them, in pieces.
+    //  - Each key's residuals over the render, added in pixel order
+    //    (addResiduals over every share's residuals()).
+    struct PixelResiduals {
+        int32_t key = -1;  // -1: none
+        uint32_t samples = 0;
+        float mean = 0, m2 = 0;
+    };
+    using KeyPools = std::unordered_map<int32_t, Moments>;
+    std::vector<PixelResiduals> residuals(int channel) const;
+    static void addResiduals(KeyPools& pools, const PixelResiduals& r) {
+        if (r.key >= 0) pools[r.key].add(residualMoments(r.samples, r.mean, r.m2));
+    }
+    //  - A pixel's samples as its neighbours' windows take them (kind 0:
+    //    in no window): their count, units, mean and squared deviations.
+    struct WindowSamples {
+        int32_t kind = 0;
+        uint32_t count = 0, units = 0;
+        float mean = 0, m2 = 0;
+        Moments moments() const { return {double(count), double(units), double(mean) * count, double(m2)}; }
+    };
+    WindowSamples windowSamples(int channel, size_t i) const {
+        return acc_[size_t(channel)].empty() ? WindowSamples{} : windowSamplesOf(acc_[size_t(channel)][i]);
+    }
+    //  - Then each share pools its pixels (film pixel i is the sensor's
+    //    pixels[i]) with the keys' pools and its windows' pixels, wherever
+    //    they are held (samplesOf: a sensor pixel's WindowSamples), and
+    //    settles.
+    void settleShare(int channel, const Sensor& sensor, const KeyPools& keys, const std::vector<uint32_t>& pixels,
+                     const std::function<WindowSamples(uint32_t)>& samplesOf);
+    // A settled channel's values (every pixel's, in order) as bytes, and
+    // back into the listed pixels of another film (shares across MPI
+    // ranks are gathered settled).
+    std::vector<char> packSettled(int channel) const;
+    static size_t packedSettledBytesPerPixel() { return sizeof(Settled); }
+    void unpackSettled(int channel, const std::vector<uint32_t>& pixels, const char* bytes);
+
+    // Bytes a pixel's channel holds before and after it is settled.
+    static size_t bytesPerChannel() { return sizeof(Accumulator); }
+    static size_t settledBytesPerChannel() { return sizeof(Settled); }
+
+    RGB meanRGB(size_t pixel) const {
+        return {mean(pixel, 0), mean(pixel, 1), mean(pixel, 2)};
+    }
+    RGB standardErrorRGB(size_t pixel) const {
+        return {standardError(pixel, 0), standardError(pixel, 1), standardError(pixel, 2)};
+    }
+
+private:
+    struct Accumulator;
+    // The kind of a pixel's samples, for its neighbourhood: 0 with a part
+    // estimated from within (no window), 1 with a control, 2 pooled where
+    // flat, 3 neither.
+    static int windowKind(const Accumulator& a) {
+        if (a.count == 0 || a.hasWithinVariance) return 0;
+        return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
+    }
     // A pixel's pooled samples' residuals (every sample has one where it
     // has a key), and its samples: their residuals where they have a key,
     // their values otherwise.
-    static Moments residualMoments(const Accumulator& a);
-    static Moments momentsOf(const Accumulator& a);
+    static Moments residualMoments(const Accumulator& a) {
+        return residualMoments(a.pooledSamples, a.residualMean, a.residualM2);
+    }
+    static Moments residualMoments(uint32_t samples, float mean, float m2) {
+        return {double(samples), double(samples), double(mean) * samples, double(m2)};
+    }
+    static WindowSamples windowSamplesOf(const Accumulator& a) {
+        if (a.poolKey >= 0)
+            return {windowKind(a), a.pooledSamples, a.pooledSamples, a.residualMean, a.residualM2};
+        return {windowKind(a), a.count, a.units, a.mean, a.m2};
+    }
+    static Moments momentsOf(const Accumulator& a) { return windowSamplesOf(a).moments(); }
     static float spreadError(const Accumulator& a) {
         if (a.units < 2) return 0.0f;
         return float(std::sqrt(std::max(0.0, double(a.m2)) / (double(a.count) * (a.units - 1))));
@@ -238,6 +290,14 @@ private:
     }
     // Pools one channel's errors (poolErrors).
     void poolChannelErrors(int channel, const Sensor* sensor);
+    // Pools a channel's errors with the keys' pools over the render: film
+    // pixel i is the sensor's pixelOf(i), and a window's pixel q is seen
+    // as samplesOf(q) (WindowSamples).
+    template <class PixelOf, class SamplesOf>
+    void poolWith(int channel, const KeyPools& keys, const ImageNeighbourhood& near, PixelOf pixelOf,
+                  SamplesOf samplesOf);
+    // Keeps what the queries read of a pooled channel.
+    void keepSettled(int channel);
     // Whether a pixel's pooled samples' residuals were all equal (or fewer than two).
     static bool residualFlat(const Accumulator& a) { return residualMoments(a).flat(); }
     // The standard error of the mean that the spread of the residuals gives.
@@ -269,11 +329,5 @@ private:
     std::array<std::vector<Settled>, kChannels> settled_;
 };
 
-inline Film::Moments Film::residualMoments(const Accumulator& a) {
-    return {double(a.pooledSamples), double(a.pooledSamples), double(a.residualMean) * a.pooledSamples, double(a.residualM2)};
-}
-inline Film::Moments Film::momentsOf(const Accumulator& a) {
-    return a.poolKey >= 0 ? residualMoments(a) : Moments{double(a.count), double(a.units), double(a.mean) * a.count, double(a.m2)};
-}
 
 }  // namespace pl

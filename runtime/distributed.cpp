@@ -1,5 +1,7 @@
 #include "runtime/distributed.h"
 
+#include "core/image_neighbourhood.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -120,6 +122,141 @@ void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>&
         std::vector<char> bytes(pixels.size() * Film::packedBytesPerPixel());
         receiveBytes(bytes.data(), bytes.size(), r, 1);
         film.unpackPixels(pixels, bytes.data());
+        PathStats theirs;
+        receiveBytes(&theirs, sizeof theirs, r, 2);
+        stats += theirs;
+    }
+}
+
+
+namespace {
+// Counts and offsets of an all-to-all exchange, in elements.
+struct Exchange {
+    std::vector<int> counts, offsets;
+    size_t total = 0;
+    explicit Exchange(const std::vector<int>& perRank) : counts(perRank), offsets(perRank.size(), 0) {
+        for (size_t r = 0; r < counts.size(); ++r) {
+            offsets[r] = int(total);
+            total += size_t(counts[r]);
+        }
+    }
+};
+// Sends each rank its list (lists[r] to rank r) and returns what each rank
+// sent this one, in rank order (receivedPerRank: how many from each).
+template <class T>
+std::vector<T> exchangeLists(const std::vector<std::vector<T>>& lists, std::vector<int>& receivedPerRank) {
+    const int n = Distributed::ranks();
+    std::vector<int> sendCounts(size_t(n), 0);
+    std::vector<T> send;
+    for (int r = 0; r < n; ++r) {
+        sendCounts[size_t(r)] = int(lists[size_t(r)].size());
+        send.insert(send.end(), lists[size_t(r)].begin(), lists[size_t(r)].end());
+    }
+    receivedPerRank.assign(size_t(n), 0);
+    MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receivedPerRank.data(), 1, MPI_INT, MPI_COMM_WORLD);
+    const Exchange out(sendCounts), in(receivedPerRank);
+    std::vector<T> received(in.total);
+    MPI_Datatype element;
+    MPI_Type_contiguous(int(sizeof(T)), MPI_BYTE, &element);
+    MPI_Type_commit(&element);
+    MPI_Alltoallv(send.data(), out.counts.data(), out.offsets.data(), element, received.data(), in.counts.data(),
+                  in.offsets.data(), element, MPI_COMM_WORLD);
+    MPI_Type_free(&element);
+    return received;
+}
+}  // namespace
+
+void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const std::vector<uint32_t>& share) {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    const size_t pixelCount = sensor.pixelCount();
+    CommunicationTimer timer;
+    // Every key's residuals, added on rank 0 in pixel order (as one film
+    // adds them), then sent to every rank.
+    Film::KeyPools keys;
+    {
+        std::vector<Film::PixelResiduals> mine = film.residuals(channel);
+        if (me != 0) {
+            sendBytes(mine.data(), mine.size() * sizeof(Film::PixelResiduals), 0, 5);
+        } else {
+            std::vector<std::vector<Film::PixelResiduals>> all(static_cast<size_t>(n));
+            all[0] = std::move(mine);
+            for (int r = 1; r < n; ++r) {
+                all[size_t(r)].resize(pixelCountOfRank(pixelCount, r, n));
+                receiveBytes(all[size_t(r)].data(), all[size_t(r)].size() * sizeof(Film::PixelResiduals), r, 5);
+            }
+            for (uint32_t p = 0; p < pixelCount; ++p)
+                Film::addResiduals(keys, all[size_t(rankOfPixel(p, n))][positionInShare(p, n)]);
+        }
+        std::vector<std::pair<int32_t, Film::Moments>> table(keys.begin(), keys.end());
+        uint64_t size = table.size();
+        broadcastBytes(&size, sizeof size);
+        table.resize(size);
+        broadcastBytes(table.data(), size * sizeof(table[0]));
+        if (me != 0) keys = Film::KeyPools(table.begin(), table.end());
+    }
+    // The pixels of other ranks in this rank's windows: asked of their
+    // ranks, which answer with their samples.
+    const ImageNeighbourhood near(&sensor, pixelCount);
+    std::vector<std::vector<uint32_t>> asked(static_cast<size_t>(n));
+    for (size_t i = 0; i < share.size(); ++i) {
+        if (film.windowSamples(channel, i).kind == 0) continue;
+        near.forEachNear(share[i], Film::kWindowRadius, [&](size_t q) {
+            if (const int r = rankOfPixel(uint32_t(q), n); r != me) asked[size_t(r)].push_back(uint32_t(q));
+        });
+    }
+    for (std::vector<uint32_t>& list : asked) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+    }
+    std::vector<int> askedOfMe;
+    const std::vector<uint32_t> toAnswer = exchangeLists(asked, askedOfMe);
+    std::vector<std::vector<Film::WindowSamples>> answers(static_cast<size_t>(n));
+    for (int r = 0, at = 0; r < n; ++r)
+        for (int k = 0; k < askedOfMe[size_t(r)]; ++k, ++at)
+            answers[size_t(r)].push_back(film.windowSamples(channel, positionInShare(toAnswer[size_t(at)], n)));
+    std::vector<int> answered;
+    const std::vector<Film::WindowSamples> samples = exchangeLists(answers, answered);
+    // The answers, in rank order and each rank's in the order asked (by
+    // pixel): found by rank, then by pixel.
+    std::vector<uint32_t> askedInOrder;
+    std::vector<size_t> firstOfRank(size_t(n) + 1, 0);
+    for (int r = 0; r < n; ++r) {
+        askedInOrder.insert(askedInOrder.end(), asked[size_t(r)].begin(), asked[size_t(r)].end());
+        firstOfRank[size_t(r) + 1] = askedInOrder.size();
+    }
+    std::vector<std::vector<uint32_t>>().swap(asked);
+    film.settleShare(channel, sensor, keys, share, [&](uint32_t q) {
+        const int r = rankOfPixel(q, n);
+        if (r == me) return film.windowSamples(channel, positionInShare(q, n));
+        const auto first = askedInOrder.begin() + long(firstOfRank[size_t(r)]);
+        const auto last = askedInOrder.begin() + long(firstOfRank[size_t(r) + 1]);
+        const auto at = std::lower_bound(first, last, q);
+        return at != last && *at == q ? samples[size_t(at - askedInOrder.begin())] : Film::WindowSamples{};
+    });
+}
+
+void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& share, Film& whole, PathStats& stats) {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    CommunicationTimer timer;
+    for (int c = 0; c < kChannels; ++c) {
+        const std::vector<char> mine = film.packSettled(c);
+        if (me != 0) {
+            sendBytes(mine.data(), mine.size(), 0, 6);
+            continue;
+        }
+        whole.unpackSettled(c, share, mine.data());
+        for (int r = 1; r < n; ++r) {
+            const std::vector<uint32_t> theirs = pixelsOfRank(whole.pixelCount(), r, n);
+            std::vector<char> bytes(theirs.size() * Film::packedSettledBytesPerPixel());
+            receiveBytes(bytes.data(), bytes.size(), r, 6);
+            whole.unpackSettled(c, theirs, bytes.data());
+        }
+    }
+    if (me != 0) {
+        sendBytes(&stats, sizeof stats, 0, 2);
+        return;
+    }
+    for (int r = 1; r < n; ++r) {
         PathStats theirs;
         receiveBytes(&theirs, sizeof theirs, r, 2);
         stats += theirs;
@@ -280,6 +417,10 @@ int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
 double Distributed::secondsCommunicating() { return 0; }
 void gatherOnRankZero(Film&, PathStats&, const std::vector<uint32_t>&) {}
+void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const std::vector<uint32_t>&) {
+    film.settleChannel(channel, &sensor);
+}
+void gatherSettledOnRankZero(const Film&, const std::vector<uint32_t>&, Film&, PathStats&) {}
 ChunkDealer::ChunkDealer(size_t count) : count_(count) {}
 ChunkDealer::~ChunkDealer() = default;
 void ChunkDealer::answerTheOtherRanks() {}

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/film.h"
+#include "core/sensors.h"
 #include "integrators/integrator.h"
 
 namespace pl {
@@ -50,6 +51,18 @@ size_t positionInShare(uint32_t pixel, int ranks);
 // rendered) and sums `stats` on rank 0 (the other ranks' are left as they
 // were). Collective: every rank calls it.
 void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>& myPixels);
+
+// A render whose film holds this rank's share alone (film pixel i is the
+// sensor's share[i]): settles the channel with the errors that pooling a
+// whole film gives (Film::poolErrors). Every key's residuals are added on
+// rank 0 in pixel order and sent to all; each rank receives, of the pixels
+// other ranks hold, those in its pixels' windows. Collective.
+void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const std::vector<uint32_t>& share);
+
+// Every rank's settled share (film pixel i is the sensor's share[i]) in
+// rank 0's `whole` (a film of all the sensor's pixels), and the
+// statistics summed there (rank order). Collective.
+void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& share, Film& whole, PathStats& stats);
 
 // Work stealing by chunks: chunks [0, count) handed out as the ranks ask
 // for them, so a rank that is faster (its pixels cheaper, its node

@@ -70,7 +70,7 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
                     const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
                     sample.value += float(light[size_t(k)].score[at]);
                     sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
-                    result.film.add(p, channel, sample);
+                    result.film.add(share.filmPixel(i), channel, sample);
                 }
                 progress.advance(end - begin);
                 std::lock_guard<std::mutex> lock(statsMutex);
@@ -133,7 +133,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                     float u0 = rng.uniform(), u1 = rng.uniform();
                     Ray ray = sensor.generateRay(p, u0, u1);
                     if (channel >= 0) {
-                        result.film.add(p, channel, integrator.Li(ray, channel, medium, rng, stats));
+                        result.film.add(share.filmPixel(i), channel, integrator.Li(ray, channel, medium, rng, stats));
                         continue;
                     }
                     int hero = int((s + heroOffset) % 3);
@@ -142,7 +142,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                     ++inGroup;
                     const bool stratified = settings.channelSampling == ChannelSampling::Hero;
                     if (!stratified || s % 3 == 2 || s + 1 == firstSample + count) {
-                        for (int c = 0; c < 3; ++c) result.film.addGroup(p, c, group[c], inGroup);
+                        for (int c = 0; c < 3; ++c) result.film.addGroup(share.filmPixel(i), c, group[c], inGroup);
                         group[0] = group[1] = group[2] = 0;
                         inGroup = 0;
                     }
@@ -155,9 +155,16 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
         if (channel >= 0)
             result.passSeconds[channel] +=
                 float(std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count());
-        if (lastSamples && channel >= 0 && !share.acrossRanks && !interruptRequested())
+        // Settled as soon as its pass ends (collective across ranks, so
+        // even when interrupted).
+        if (lastSamples && channel >= 0 && share.filmOfShare)
+            settleShareAcrossRanks(result.film, channel, sensor, share.pixels);
+        else if (lastSamples && channel >= 0 && !share.acrossRanks && !interruptRequested())
             result.film.settleChannel(channel, &sensor);
     }
+    if (share.filmOfShare && lastSamples)
+        for (int c = 0; c < kChannels; ++c)
+            if (!result.film.settled(c)) settleShareAcrossRanks(result.film, c, sensor, share.pixels);
     throwIfInterrupted();
     progress.finish();
     if (!share.acrossRanks) {  // across ranks: rank 0, once gathered
@@ -180,6 +187,12 @@ bool rendersChannelsInOnePass(const RenderSettings& settings) {
 PathStats gatherShares(RenderResult& result, const PixelShare& share, const Sensor& sensor) {
     PathStats all = result.stats;
     if (!share.acrossRanks) return all;
+    if (share.filmOfShare) {
+        Film whole(Distributed::rank() == 0 ? sensor.pixelCount() : 0, false);
+        gatherSettledOnRankZero(result.film, share.pixels, whole, all);
+        result.film = std::move(whole);
+        return all;
+    }
     gatherOnRankZero(result.film, all, share.pixels);
     if (Distributed::rank() == 0) result.film.poolErrors(&sensor);
     return all;
@@ -214,9 +227,10 @@ std::vector<uint32_t> renderClaimedChunks(const Integrator& integrator, const Sc
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks) {
     const auto start = std::chrono::steady_clock::now();
     PixelShare share{{}, acrossRanks && Distributed::ranks() > 1};  // its pixels: below
-    // In one process each channel is opened as its pass starts and settled
-    // as it ends (renderSamples); across ranks every film is gathered whole.
-    RenderResult result{Film(sensor.pixelCount(), share.acrossRanks)};
+    // Each channel is opened as its pass starts and settled as it ends
+    // (renderSamples): in one process, and on the ranks with light paths,
+    // whose films hold their shares alone. Claimed chunks are gathered whole.
+    RenderResult result{Film(sensor.pixelCount(), false)};
     const double communicatedBefore = Distributed::secondsCommunicating();
     // Across ranks every rank has its integrator before any deals or waits.
     std::unique_ptr<Integrator> integrator;
@@ -225,10 +239,15 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
         // Light paths serve every pixel: their shares are fixed (the
         // blocks' scores go to each pixel's rank); other estimators steal.
         if (share.acrossRanks && !integrator->scoresLightPaths()) {
+            result.film = Film(sensor.pixelCount());
             share.pixels = renderClaimedChunks(*integrator, scene, sensor, settings, result);
             return;
         }
-        if (share.acrossRanks) share = PixelShare::ofThisRank(sensor.pixelCount());
+        if (share.acrossRanks) {
+            share = PixelShare::ofThisRank(sensor.pixelCount());
+            share.filmOfShare = true;
+            result.film = Film(share.pixels.size(), false);
+        }
         renderSamples(*integrator, scene, sensor, settings, share, 0, settings.spp, result, true);
     };
     runOnEveryRank(make, share.acrossRanks);

@@ -56,7 +56,7 @@ struct RenderResult {
 };
 
 // acrossRanks: every MPI rank renders its share of the pixels and rank 0
-// gathers the result (the others return their share).
+// gathers the result (the others return a film of no pixels).
 RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks = false);
 
 // The integrator the settings name, made for this scene and sensor and
@@ -79,10 +79,16 @@ bool rendersChannelsInOnePass(const RenderSettings& settings);
 struct PixelShare {
     std::vector<uint32_t> pixels;  // empty: all in one process, none across ranks
     bool acrossRanks = false;
+    // The film holds the share's pixels alone, by position in the share
+    // (across ranks: each rank's film only its own; settled on the ranks
+    // and gathered settled on rank 0).
+    bool filmOfShare = false;
     // This rank's share with more than one rank; else all pixels.
     static PixelShare ofThisRank(size_t pixelCount);
     size_t size(size_t pixelCount) const { return pixels.empty() && !acrossRanks ? pixelCount : pixels.size(); }
     size_t pixel(size_t i) const { return pixels.empty() ? i : pixels[i]; }
+    // Where the share's pixel i stands in the film.
+    size_t filmPixel(size_t i) const { return filmOfShare ? i : pixel(i); }
 };
 
 // Adds samples [firstSample, firstSample + count) of the share's pixels to
@@ -97,7 +103,8 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
                    RenderResult& result, bool lastSamples = false);
 
 // A share across MPI ranks: rank 0's film receives every rank's pixels
-// (and pools the errors over them all, with the sensor's neighbourhoods);
+// (and pools the errors over them all, with the sensor's neighbourhoods;
+// a film of the share alone, settled already: a whole film, settled);
 // the returned statistics are summed over the ranks on rank 0 (this
 // rank's elsewhere). Collective.
 // Otherwise: the result's statistics.

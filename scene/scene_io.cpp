@@ -262,7 +262,8 @@ void requireSensorMemory(const SceneDescription& desc, const Sensor& sensor) {
 //    accumulators and two settled channels while the last pass runs
 //    (Film::settleChannel), with lighttrace's light tallies (12 bytes for
 //    each of LightTrace::mostTalliesAlive(), and the block's two
-//    doubles); across MPI ranks all three channels' accumulators;
+//    doubles); across MPI ranks lighttrace's share of that, other
+//    estimators' all three channels' accumulators;
 //  - the images after it: the settled film, the results (24) and 56
 //    bytes per atlas pixel;
 //  - the result grid, once the film, the sensor and the labels are let go
@@ -277,23 +278,35 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     const Vec3i& r = frame.resolution;
     const uint64_t atlasPixels = uint64_t(r.x + r.y + r.z) * 2 * uint64_t(std::max({r.x, r.y, r.z}));
     const uint64_t S = surfaceVoxels, inUse = memoryInUseBytes();
-    const bool oneProcess = Distributed::ranks() == 1;
-    const uint64_t filmBytes = oneProcess ? Film::bytesPerChannel() + 2 * Film::settledBytesPerChannel()
-                                          : Film::packedBytesPerPixel();
-    const uint64_t settledFilmBytes = oneProcess ? 3 * Film::settledBytesPerChannel() : Film::packedBytesPerPixel();
+    // The film per surface voxel while rendering, and settled: across
+    // ranks lighttrace's films hold each rank's share (and pooling adds
+    // rank 0's copy of every pixel's residuals, 16 bytes, and the
+    // neighbours asked of other ranks, at most 24); other estimators'
+    // films are whole on every rank.
+    const uint64_t ranks = uint64_t(Distributed::ranks());
+    const uint64_t oneFilm = Film::bytesPerChannel() + 2 * Film::settledBytesPerChannel(),
+                   settled = 3 * Film::settledBytesPerChannel();
+    auto filmBytes = [&](bool lighttrace) -> uint64_t {
+        if (ranks == 1) return oneFilm;
+        return lighttrace ? oneFilm / ranks + 16 + 24 : Film::packedBytesPerPixel();
+    };
+    auto settledFilmBytes = [&](bool lighttrace) -> uint64_t {
+        if (ranks == 1) return settled;
+        return lighttrace ? settled + settled / ranks : Film::packedBytesPerPixel();
+    };
     auto peakBytes = [&](bool patch, bool lighttrace) {
         const uint64_t sensorBytes = (patch ? 100 : 80) * S;
         const uint64_t tallyBytes = lighttrace ? 16 + 12 * LightTrace::mostTalliesAlive() : 0;
-        const uint64_t renderBytes = sensorBytes + (filmBytes + tallyBytes) * S;
-        const uint64_t imageBytes = sensorBytes + (settledFilmBytes + 24) * S + 56 * atlasPixels;
+        const uint64_t renderBytes = sensorBytes + (filmBytes(lighttrace) + tallyBytes) * S;
+        const uint64_t imageBytes = sensorBytes + (settledFilmBytes(lighttrace) + 24) * S + 56 * atlasPixels;
         const uint64_t afterScene = std::max((12 + 24 + 190) * S, (12 + 12 + 40 + 30) * S);
         return std::max({renderBytes, imageBytes, afterScene - std::min(afterScene, inUse)});
     };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
     const bool lighttrace = desc.render.integrator == "lighttrace";
     const uint64_t bytes = peakBytes(patch, lighttrace);
-    std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks do not help (each "
-                         "holds the whole sensor)";
+    std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks share only "
+                         "lighttrace's film (each holds the whole scene and sensor)";
     // Other estimators or footprints, where they would need less.
     auto offer = [&](uint64_t other, const std::string& what) {
         const uint64_t saved_MiB = (bytes - std::min(bytes, other)) >> 20;

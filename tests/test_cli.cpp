@@ -278,8 +278,13 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     EXPECT_EQ(log.find("lighttrace scores"), log.rfind("lighttrace scores")) << "one error line, from rank 0: " << log;
     EXPECT_FALSE(s.anyOutput());
 
-    // The light side on every pixel (a one-resin cube is printpt's otherwise).
+    // lighttrace's films hold each rank's share alone, pooled across the
+    // ranks (keys and windows) and gathered settled: a one-resin cube is
+    // printpt's camera side on every pixel (windows over both ranks'
+    // pixels), then the light side on every pixel.
     s.scene["sensor"]["footprint"] = "patch";
+    s.write();
+    expectSameBits("--spp 3 --integrator lighttrace");
     s.scene["render"]["lighttrace_hybrid"] = false;
     s.write();
     expectSameBits("--spp 3 --integrator lighttrace");
