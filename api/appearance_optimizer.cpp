@@ -10,12 +10,12 @@
 
 #include <tbb/parallel_for.h>
 
-#include "compare/color_difference.h"
+#include "compare/colour_difference.h"
 #include "compare/surface_colour_error.h"
 #include "media/label_grid.h"
 #include "media/voxel_int_grid.h"
 #include "prepare/halftone.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 
 namespace pl {
 

@@ -8,9 +8,9 @@
 
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
-#include "scene/registry.h"
-#include "io/input_error.h"
-#include "scene/scene_io.h"
+#include "render/registry.h"
+#include "core/input_error.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

@@ -9,7 +9,7 @@
 #include <memory>
 #include <vector>
 
-#include "scene/render.h"
+#include "render/render.h"
 #include "media/label_grid.h"
 
 namespace pl {

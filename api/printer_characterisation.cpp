@@ -4,12 +4,12 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/materials_io.h"
 #include "io/printer_gamut_io.h"
 #include "runtime/progress.h"
-#include "scene/registry.h"
-#include "scene/render.h"
+#include "render/registry.h"
+#include "render/render.h"
 
 namespace pl {
 

@@ -15,8 +15,8 @@
 #include "io/mesh_io.h"
 #include "io/output_file.h"
 #include "prepare/prepare_model.h"
-#include "scene/registry.h"
-#include "scene/scene_io.h"
+#include "render/registry.h"
+#include "render/scene_io.h"
 
 namespace py = pybind11;
 

@@ -14,12 +14,12 @@
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "compare/result_comparison.h"
-#include "scene/registry.h"
-#include "scene/batch_manifest.h"
+#include "render/registry.h"
+#include "render/batch_manifest.h"
 #include "io/image_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

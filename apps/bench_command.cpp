@@ -1,4 +1,4 @@
-// printlight bench: error against run time (DESIGN.md section 5).
+// printlight bench: error against run time (docs/performance.md).
 //   printlight bench SCENE.json --make-reference REF.exr [--spp N] [--integrator I]
 //   printlight bench SCENE.json --reference REF.exr [--budgets 1,2,4,8] [--configs a,b,...] [--out PREFIX]
 //   printlight bench SCENE.json --self-variance [--budgets ...|--spp N] [--configs ...] [--out PREFIX]
@@ -37,13 +37,13 @@
 #include "apps/number_text.h"
 #include "runtime/progress.h"
 #include "integrators/half_space_walk.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "compare/surface_colour_error.h"
 #include "io/image_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
-#include "scene/progressive_render.h"
-#include "scene/scene_io.h"
+#include "render/progressive_render.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "scene/render.h"
+#include "render/render.h"
 
 namespace pl {
 

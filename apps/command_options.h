@@ -7,9 +7,9 @@
 #include <tbb/info.h>
 
 #include "apps/arguments.h"
-#include "scene/registry.h"
-#include "scene/render.h"
-#include "scene/scene_io.h"
+#include "render/registry.h"
+#include "render/render.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

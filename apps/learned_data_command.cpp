@@ -15,10 +15,10 @@
 #include "core/fresnel.h"
 #include "integrators/learned.h"
 #include "io/image_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 #include "runtime/scheduler.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 
@@ -69,7 +69,7 @@ int learnedDataCommand(const std::vector<std::string>& argv) {
     const size_t n = surface->pixelCount();
     std::vector<float> descriptors(n * 3 * LabelDescriptor::kSize);
     parallelForTiles(n, 256, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler sampler(*scene.medium);
+        LabelMedium::Tracker sampler(*scene.medium);
         describeSurface(descriptor, *surface, begin, end, sampler, &descriptors[begin * 3 * LabelDescriptor::kSize]);
     });
     // Along the normal the surroundings' reflection is F(0) Le; the rest

@@ -14,18 +14,18 @@
 #include "api/appearance_optimizer.h"
 #include "api/printer_characterisation.h"
 #include "compare/surface_colour_error.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/html_report.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/mesh_io.h"
 #include "io/mesh_repair.h"
 #include "io/output_file.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

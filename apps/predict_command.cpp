@@ -13,7 +13,7 @@
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
 #include "core/rng.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

@@ -11,7 +11,7 @@
 #include "apps/command_options.h"
 #include "runtime/progress.h"
 #include "io/grid_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
 #include "io/mesh_repair.h"

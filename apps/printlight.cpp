@@ -4,7 +4,7 @@
 
 #include "apps/code_fingerprint.h"
 #include "apps/commands.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "runtime/distributed.h"
 #include "runtime/interrupt.h"
 

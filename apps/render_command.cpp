@@ -12,14 +12,14 @@
 #include "apps/number_text.h"
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "io/grid_io.h"
 #include "io/image_io.h"
 #include "io/mesh_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
-#include "scene/progressive_render.h"
-#include "scene/scene_io.h"
+#include "render/progressive_render.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

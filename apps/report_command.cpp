@@ -7,7 +7,7 @@
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "io/html_report.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 
 namespace pl {

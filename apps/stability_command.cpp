@@ -30,7 +30,7 @@ std::string markdownTable(const std::vector<StabilityRow>& rows, bool quick, int
     for (const auto& r : rows) failed += !r.pass;
     md << "# Numerical stability suite\n\n"
        << "Written by `printlight stability" << (quick ? " --quick" : "") << " -o docs/stability.md` ("
-       << threads << " thread(s), " << number(seconds) << " s in all). Every case of DESIGN.md section 6 on small "
+       << threads << " thread(s), " << number(seconds) << " s in all). Every stiff or extreme case on small "
        << "scenes built in code (`testing/stability_cases.cpp`), rendered with volpath (no re-entry) and printpt "
        << "(defaults), channel r. *measured* is the mean over all pixels, *std err* its standard error "
        << "(pixels are independent); *z* = (measured - expected) / the combined standard error (round-off "

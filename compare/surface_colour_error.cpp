@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "compare/color_difference.h"
+#include "compare/colour_difference.h"
 #include "compare/surface_gaussian.h"
 #include "core/rng.h"
 

@@ -42,7 +42,7 @@ struct SingleChannelPath {
     float Le;  // environment radiance in this channel
     float beta = 1.0f;
 
-    FreeFlight track(LabelMedium::Sampler& medium, const Ray& ray, float tMax_mm, Rng& rng) {
+    FreeFlight track(LabelMedium::Tracker& medium, const Ray& ray, float tMax_mm, Rng& rng) {
         return medium.sampleFreeFlight(ray, tMax_mm, channel, rng);
     }
     void collide(Label l) { beta *= lut->albedo[l]; }
@@ -76,7 +76,7 @@ struct HeroPath {
     RGB beta{1, 1, 1};
     RGB logRatio{0, 0, 0};  // log(p_c / p_hero); exactly 0 for the hero
 
-    FreeFlight track(LabelMedium::Sampler& medium, const Ray& ray, float tMax_mm, Rng& rng) {
+    FreeFlight track(LabelMedium::Tracker& medium, const Ray& ray, float tMax_mm, Rng& rng) {
         return medium.sampleFreeFlightHero(ray, tMax_mm, hero, rng, logRatio);
     }
     void collide(Label l) {
@@ -146,7 +146,7 @@ struct SpectralPath {
     RGB Le;
     RGB beta{1, 1, 1};
 
-    FreeFlight track(LabelMedium::Sampler& medium, const Ray& ray, float tMax_mm, Rng& rng) {
+    FreeFlight track(LabelMedium::Tracker& medium, const Ray& ray, float tMax_mm, Rng& rng) {
         return medium.sampleFreeFlightSpectral(ray, tMax_mm, rng, beta);
     }
     void collide(Label l) {

@@ -210,7 +210,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse
     if (tables.empty()) return;  // nothing in the object scatters
     const Vec3i gridLo = medium.frame().indexMin, gridHi = medium.frame().indexMax();
     parallelForTiles(n, 256, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler sampler(medium);
+        LabelMedium::Tracker sampler(medium);
         struct Segment {
             Label label;
             float z0, z1;

@@ -8,6 +8,7 @@
 
 #include "core/film.h"
 #include "core/fresnel.h"
+#include "core/path_stats.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
 #include "scene/scene.h"
@@ -15,30 +16,6 @@
 namespace pl {
 
 class Sensor;
-
-// The control variates printpt's walks can use (integrators/printpt.h).
-enum class ControlKind { HalfSpace, Wedge, Curved };
-constexpr int kControlKinds = 3;
-
-struct PathStats {
-    uint64_t paths = 0;
-    uint64_t scatterEvents = 0;  // real collisions that scattered
-    uint64_t ballEvents = 0;     // of which sampled inside printpt's homogeneous balls
-    uint64_t leaks = 0;          // rays inside that found no boundary (mesh not closed)
-    uint64_t trapped = 0;        // paths ended after kMaxBoundaryBounces without scattering
-    uint64_t controlledWalks[kControlKinds] = {0, 0, 0};  // printpt's walks with a control, per ControlKind
-    uint64_t allControlledWalks() const { return controlledWalks[0] + controlledWalks[1] + controlledWalks[2]; }
-    void operator+=(const PathStats& o) {
-        paths += o.paths;
-        scatterEvents += o.scatterEvents;
-        ballEvents += o.ballEvents;
-        leaks += o.leaks;
-        trapped += o.trapped;
-        for (int k = 0; k < kControlKinds; ++k) controlledWalks[k] += o.controlledWalks[k];
-    }
-};
-
-
 
 // Boundary events in a row, without scattering, after which a path counts
 // as trapped (lossless total internal reflection) and ends.
@@ -127,15 +104,15 @@ class Integrator {
 public:
     virtual ~Integrator() = default;
     // Radiance arriving along -ray.d at ray.o (a point outside the object).
-    virtual ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    virtual ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                              PathStats& stats) const = 0;
     // All three channels from one path: Hero (the driver draws the hero
     // channel uniformly) or Spectral sampling (channel_paths.h).
-    virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+    virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
                       PathStats& stats) const = 0;
     // Called once before rendering the sensor's pixels in these channels
     // (single-channel passes): a chance to look at all entries first.
-    virtual void prepare(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
+    virtual void preprocess(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
 
     // Estimators that also trace paths from the light (lighttrace) score,
     // for sample `sample` of a channel's pass, one block of light paths into
@@ -147,7 +124,7 @@ public:
                                  PathStats& /*stats*/) const {}
     // With light paths: the camera's share of pixel p's sample, what the
     // light paths do not score there.
-    virtual ChannelSample cameraSide(size_t /*pixel*/, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    virtual ChannelSample cameraSide(size_t /*pixel*/, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                                      PathStats& stats) const {
         return Li(ray, channel, medium, rng, stats);
     }

@@ -7,7 +7,7 @@ namespace pl {
 LabelDescriptor::LabelDescriptor(const LabelMedium& medium, uint64_t maxBytes)
     : medium_(medium), pyramid_(medium, kBaseCell_mm, kLevels, maxBytes) {}
 
-void LabelDescriptor::compute(const Point3f& p_mm, const Vec3f& n, LabelMedium::Sampler& sampler,
+void LabelDescriptor::compute(const Point3f& p_mm, const Vec3f& n, LabelMedium::Tracker& sampler,
                               std::array<Values, 3>& out) const {
     constexpr float kScale = 1.0f / kCoefficientScale_perMm;
     int at = 0;

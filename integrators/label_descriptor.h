@@ -38,7 +38,7 @@ public:
 
     // The descriptors of the three channels at surface point p_mm, with
     // outward unit normal n.
-    void compute(const Point3f& p_mm, const Vec3f& n, LabelMedium::Sampler& sampler,
+    void compute(const Point3f& p_mm, const Vec3f& n, LabelMedium::Tracker& sampler,
                  std::array<Values, 3>& out) const;
 
 private:

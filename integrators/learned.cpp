@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "runtime/scheduler.h"
 
 namespace pl {
@@ -56,7 +56,7 @@ void evaluateLearnedModel(const LearnedModel& model, const float* inputs, size_t
 }
 
 void describeSurface(const LabelDescriptor& descriptor, const SurfaceVoxelSensor& surface, size_t begin, size_t end,
-                     LabelMedium::Sampler& sampler, float* out) {
+                     LabelMedium::Tracker& sampler, float* out) {
     std::array<LabelDescriptor::Values, 3> values;
     for (size_t i = begin; i < end; ++i) {
         const SurfacePoint point = surfacePointOf(surface, i);
@@ -84,7 +84,7 @@ Learned::Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const
     const LabelDescriptor& descriptor = *made;
     const size_t n = elementCount();
     parallelForTiles(n, kBatch, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler sampler(medium);
+        LabelMedium::Tracker sampler(medium);
         const size_t count = end - begin;
         std::vector<float> inputs(3 * count * LabelDescriptor::kSize), outputs(3 * count);
         describeSurface(descriptor, surface(), begin, end, sampler, inputs.data());

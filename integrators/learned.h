@@ -24,7 +24,7 @@ public:
 // patches, three rows (channels) per element, into `out` (the integrator's
 // inputs, and the training data's: apps/learned_data_command.cpp).
 void describeSurface(const LabelDescriptor& descriptor, const SurfaceVoxelSensor& surface, size_t begin, size_t end,
-                     LabelMedium::Sampler& sampler, float* out);
+                     LabelMedium::Tracker& sampler, float* out);
 
 // The perceptron over a batch: inputs are `count` rows of model.descriptorSize.
 void evaluateLearnedModel(const LearnedModel& model, const float* inputs, size_t count, float* outputs);

@@ -94,14 +94,14 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
     decideEmissionShares();
 }
 
-void LightTrace::prepare(const Sensor& sensor, const std::vector<int>& channels) {
-    printpt_.prepare(sensor, channels);
+void LightTrace::preprocess(const Sensor& sensor, const std::vector<int>& channels) {
+    printpt_.preprocess(sensor, channels);
     if (!options_.hybrid) return;
     // A pixel's centre ray stands for its entries (tiles of pixels, each
     // decided by one thread; a pixel's decision depends on it alone).
     for (int c : channels)
         parallelForTiles(sensor_.pixelCount(), 256, [&](size_t begin, size_t end) {
-            LabelMedium::Sampler medium(*scene_.medium, majorants_);
+            LabelMedium::Tracker medium(*scene_.medium, majorants_);
             for (size_t p = begin; p < end; ++p)
                 if (lightServes_[c][p] && printpt_.controlsEntry(sensor_.generateRay(p, 0.5f, 0.5f), c, medium))
                     lightServes_[c][p] = 0;
@@ -143,7 +143,7 @@ size_t LightTrace::cameraOnlyPixels(int channel) const {
     return size_t(std::count(lightServes_[channel].begin(), lightServes_[channel].end(), uint8_t(0)));
 }
 
-ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                                      PathStats& stats) const {
     if (!lightServes_[channel][pixel]) return printpt_.Li(ray, channel, medium, rng, stats);
     const Geometry& geometry = *scene_.geometry;
@@ -270,7 +270,7 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
     };
     const size_t alive = mostTalliesAlive();
     parallelForTiles(blockWorkers(), 1, [&](size_t, size_t) {
-        LabelMedium::Sampler medium(*scene_.medium, majorants_);
+        LabelMedium::Tracker medium(*scene_.medium, majorants_);
         for (size_t part = nextPart++; part < kBlockParts; part = nextPart++) {
             {
                 // The parts before this one hold no thread waiting here (the
@@ -324,7 +324,7 @@ SurfaceHit LightTrace::entryOnMesh(Rng& rng) const {
     return scene_.geometry->pointOn(prim, b.b1, b.b2);
 }
 
-void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium,
+void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Tracker& medium,
                                Rng& rng, ParticleTally& tally, PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
     const ChannelLut& lut = scene_.medium->lut(channel);

@@ -64,23 +64,23 @@ public:
                std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
     // Without the light side: printpt's estimate.
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const override {
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const override {
         return printpt_.Li(ray, channel, medium, rng, stats);
     }
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
               PathStats& stats) const override {
         return printpt_.LiRGB(ray, sampling, hero, medium, rng, stats);
     }
     // printpt's census, then (hybrid) the pixels whose walks run with a
     // control go to printpt.
-    void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
+    void preprocess(const Sensor& sensor, const std::vector<int>& channels) override;
     bool scoresLightPaths() const override { return true; }
     void scoreLightBlock(int channel, uint32_t sample, LightBlockScores& block, PathStats& stats) const override;
     // The reflection and the unscattered light of the line's first segment
     // where the light side scores; elsewhere printpt's whole estimate
     // (patches too small for the light side, and entries where printpt's
     // walks run with a control, which is nearly exact there).
-    ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                              PathStats& stats) const override;
     // The light side scores into pixels whose patch is at least this
     // fraction of the voxel's cross section along the patch's normal:
@@ -129,7 +129,7 @@ private:
     SurfaceHit entryOnMesh(Rng& rng) const;
     // One particle's walk from the environment through `entry`, scoring
     // into the tally with its starting weight.
-    void traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Sampler& medium, Rng& rng,
+    void traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Tracker& medium, Rng& rng,
                        ParticleTally& tally, PathStats& stats) const;
 
     const Scene& scene_;

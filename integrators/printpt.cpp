@@ -9,7 +9,7 @@
 
 namespace pl {
 
-ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                           PathStats& stats) const {
     return traceOneChannel(scene_, channel, [&](const auto& path) {
         Traced<float> t = trace(ray, path, medium, rng, stats);
@@ -17,14 +17,14 @@ ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rn
     });
 }
 
-RGB PrintPt::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+RGB PrintPt::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
                    PathStats& stats) const {
     return traceThreeChannels(scene_, sampling, hero,
                               [&](const auto& path) { return trace(ray, path, medium, rng, stats).L; });
 }
 
 template <class Path>
-PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, LabelMedium::Sampler& medium,
+PrintPt::Traced<typename Path::Value> PrintPt::trace(Ray ray, const Path& path, LabelMedium::Tracker& medium,
                                                      Rng& rng, PathStats& stats) const {
     const Geometry& geometry = *scene_.geometry;
     Traced<typename Path::Value> result;
@@ -120,9 +120,9 @@ PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
     walkSpectral_ = selectWalk<SpectralPath>();
 }
 
-void PrintPt::prepare(const Sensor& sensor, const std::vector<int>& channels) { control_.survey(sensor, channels); }
+void PrintPt::preprocess(const Sensor& sensor, const std::vector<int>& channels) { control_.survey(sensor, channels); }
 
-bool PrintPt::controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Sampler& medium) const {
+bool PrintPt::controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const {
     if (!options_.controlVariate) return false;
     auto entry = scene_.geometry->intersect(cameraRay);
     if (!entry) return false;
@@ -143,7 +143,7 @@ PrintPt::WalkFunction<Path> PrintPt::selectWalk() const {
 }
 
 template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
-typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng,
+typename Path::Value PrintPt::walk(Ray ray, Path path, LabelMedium::Tracker& medium, Rng& rng,
                                    PathStats& stats) const {
     constexpr bool kControlled = std::is_same_v<Path, ControlledPath>;
     const Geometry& geometry = *scene_.geometry;
@@ -314,7 +314,7 @@ bool PrintPt::walkInBall(Ray& ray, float radius_mm, Label label, Path& path, Rng
 }
 
 PrintPt::NextEvent PrintPt::nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel,
-                                      LabelMedium::Sampler& medium, Rng& rng) const {
+                                      LabelMedium::Tracker& medium, Rng& rng) const {
     NextEvent result;
     Lobe& lobe = result.lobe;
     float uPrune = rng.uniform(), u0 = rng.uniform(), u1 = rng.uniform();  // drawn always: streams stay aligned

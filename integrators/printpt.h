@@ -56,17 +56,17 @@ public:
     PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
             std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const override;
     // One path for three channels: as Li, without next-event estimation
     // (single-channel only), and with ball walks for hero sampling only.
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
               PathStats& stats) const override;
     // The control variate's census of the sensor's survey (controlMeanWalksPerEntry).
-    void prepare(const Sensor& sensor, const std::vector<int>& channels) override;
+    void preprocess(const Sensor& sensor, const std::vector<int>& channels) override;
     // Whether walks entering along this camera ray in this channel run
     // with a control (after prepare: the census decides some).
-    bool controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Sampler& medium) const;
+    bool controlsEntry(const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const;
 
 private:
     // A sample's radiance and, with a control, the standard error it shares
@@ -85,14 +85,14 @@ private:
     };
     // Camera ray to entry, Fresnel there, and the branches' walks.
     template <class Path>
-    Traced<typename Path::Value> trace(Ray ray, const Path& path, LabelMedium::Sampler& medium, Rng& rng,
+    Traced<typename Path::Value> trace(Ray ray, const Path& path, LabelMedium::Tracker& medium, Rng& rng,
                                        PathStats& stats) const;
     // Radiance leaving the object back along -ray.d, for a ray that starts
     // inside, with the path's throughput.
     template <class Path, bool kNee, bool kMediumFirst, bool kFresnelWeighting>
-    typename Path::Value walk(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats) const;
+    typename Path::Value walk(Ray ray, Path path, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const;
     template <class Path>
-    using WalkFunction = typename Path::Value (PrintPt::*)(Ray, Path, LabelMedium::Sampler&, Rng&, PathStats&) const;
+    using WalkFunction = typename Path::Value (PrintPt::*)(Ray, Path, LabelMedium::Tracker&, Rng&, PathStats&) const;
     // The walk compiled for the scene's switches.
     template <class Path>
     WalkFunction<Path> selectWalk() const;
@@ -133,7 +133,7 @@ private:
         float light = 0.0f;
         Lobe lobe;
     };
-    NextEvent nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Sampler& medium,
+    NextEvent nextEvent(const Point3f& x, const Vec3f& dIn, Label label, int channel, LabelMedium::Tracker& medium,
                         Rng& rng) const;
 
     const Scene& scene_;

@@ -34,7 +34,7 @@ void SurfaceResponse::coverElementsOverClearResin() {
     if (!(std::min({leastSigmaT[0], leastSigmaT[1], leastSigmaT[2]}) * kDepth_mm < kLeastOpticalDepth)) return;
     std::vector<uint8_t> over(elementCount(), 0);
     parallelForTiles(elementCount(), 256, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler sampler(medium);
+        LabelMedium::Tracker sampler(medium);
         for (size_t i = begin; i < end; ++i) {
             const SurfacePoint e = surfacePoint(i);
             const Ray inward{e.p, -e.normal};
@@ -89,7 +89,7 @@ RGB SurfaceResponse::radiance(const Ray& ray, int reflectionsLeft, RGB* bound) c
     return L;
 }
 
-ChannelSample SurfaceResponse::Li(Ray ray, int channel, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+ChannelSample SurfaceResponse::Li(Ray ray, int channel, LabelMedium::Tracker&, Rng&, PathStats& stats) const {
     RGB bound{0, 0, 0};
     const RGB L = radiance(ray, 1, &bound);
     ++stats.paths;
@@ -99,7 +99,7 @@ ChannelSample SurfaceResponse::Li(Ray ray, int channel, LabelMedium::Sampler&, R
     return sample;
 }
 
-RGB SurfaceResponse::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Sampler&, Rng&, PathStats& stats) const {
+RGB SurfaceResponse::LiRGB(Ray ray, ChannelSampling, int, LabelMedium::Tracker&, Rng&, PathStats& stats) const {
     ++stats.paths;
     return radiance(ray, 1, nullptr);
 }

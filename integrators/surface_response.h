@@ -27,9 +27,9 @@ class SurfaceResponse : public Integrator {
 public:
     ~SurfaceResponse() override;
 
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const override;
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
               PathStats& stats) const override;
 
     // Per element: the response and its error bound.

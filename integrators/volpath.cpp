@@ -4,7 +4,7 @@
 
 namespace pl {
 
-ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                           PathStats& stats) const {
     // The entry, asked once: the walk starts from it, and it names the pool.
     const std::optional<SurfaceHit> entry = scene_.geometry->intersect(ray);
@@ -23,13 +23,13 @@ ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rn
     return sample;
 }
 
-RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+RGB VolPath::LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
                    PathStats& stats) const {
     return traceThreeChannels(scene_, sampling, hero, [&](auto path) { return trace(ray, path, medium, rng, stats); });
 }
 
 template <class Path>
-typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats,
+typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats,
                                     const std::optional<SurfaceHit>* firstHit) const {
     return walkVolume(
         scene_, options_, ray, path, medium, rng, stats, [](const Ray&, float, const Path&) {},

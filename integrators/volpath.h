@@ -14,15 +14,15 @@ class VolPath : public Integrator {
 public:
     VolPath(const Scene& scene, VolPathOptions options) : scene_(scene), options_(options) {}
 
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Sampler& medium, Rng& rng,
+    ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const override;
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Sampler& medium, Rng& rng,
+    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
               PathStats& stats) const override;
 
 private:
     // firstHit: the geometry's answer along `ray`, if the caller has it.
     template <class Path>
-    typename Path::Value trace(Ray ray, Path path, LabelMedium::Sampler& medium, Rng& rng, PathStats& stats,
+    typename Path::Value trace(Ray ray, Path path, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats,
                                const std::optional<SurfaceHit>* firstHit = nullptr) const;
 
     const Scene& scene_;

@@ -35,7 +35,7 @@ struct VolPathOptions {
 // asked the geometry along `ray` (the answer, a hit or none), not asked again.
 template <class Path, class OnFlight, class OnCollision>
 typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, Ray ray, Path& path,
-                                LabelMedium::Sampler& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
+                                LabelMedium::Tracker& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
                                 OnCollision&& onCollision, const std::optional<SurfaceHit>* firstHit = nullptr) {
     const Geometry& geometry = *scene.geometry;
     const float lift = geometry.surfaceLift_mm();

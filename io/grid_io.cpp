@@ -10,7 +10,7 @@
 
 #include "io/file_names.h"
 #include "runtime/memory_budget.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 #include "media/label_tree.h"
 #include "media/materials.h"

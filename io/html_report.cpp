@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/base64.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 
 namespace pl {

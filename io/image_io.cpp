@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 
 namespace pl {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 
 namespace pl {
 

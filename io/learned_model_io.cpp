@@ -3,7 +3,7 @@
 #include <map>
 #include <mutex>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/json_util.h"
 #include "io/materials_io.h"
 

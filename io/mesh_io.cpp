@@ -5,7 +5,7 @@
 #include <unordered_map>
 
 #include "io/file_names.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/mesh_formats.h"
 
 namespace pl {

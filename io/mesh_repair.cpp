@@ -14,7 +14,7 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Surface_mesh.h>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 
 namespace pl {
 

@@ -8,7 +8,7 @@
 
 #include "io/file_names.h"
 #include "io/image_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/output_file.h"
 
 namespace pl {

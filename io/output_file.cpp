@@ -6,7 +6,7 @@
 #include <fstream>
 #include <system_error>
 
-#include "io/input_error.h"
+#include "core/input_error.h"
 
 namespace pl {
 

@@ -27,7 +27,7 @@ LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std:
     offset_ = grid_.frame().worldToCellOffset();
 }
 
-struct LabelMedium::Sampler::Impl {
+struct LabelMedium::Tracker::Impl {
     openvdb::tree::ValueAccessor<const LabelTreeType> accessor;
     std::unique_ptr<openvdb::FloatGrid::ConstAccessor> sdf;
     std::unique_ptr<openvdb::Vec3SGrid::ConstAccessor> normal;
@@ -38,26 +38,26 @@ struct LabelMedium::Sampler::Impl {
     }
 };
 
-LabelMedium::Sampler::Sampler(const LabelMedium& medium, Majorants majorants)
+LabelMedium::Tracker::Tracker(const LabelMedium& medium, Majorants majorants)
     : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium),
       majorants_(majorants) {}
 
-std::optional<LabelMedium::Sampler::NearestSurface> LabelMedium::Sampler::nearestSurface(const Point3f& p) {
+std::optional<LabelMedium::Tracker::NearestSurface> LabelMedium::Tracker::nearestSurface(const Point3f& p) {
     if (!impl_->normal) return std::nullopt;
     openvdb::Coord c = toCoord(medium_.voxelAt(p));
     openvdb::Vec3s n;
     if (!impl_->normal->probeValue(c, n)) return std::nullopt;  // outside the band
     return NearestSurface{{n.x(), n.y(), n.z()}, impl_->sdf->getValue(c)};
 }
-LabelMedium::Sampler::~Sampler() = default;
+LabelMedium::Tracker::~Tracker() = default;
 
-Label LabelMedium::Sampler::labelAt(const Vec3i& v) {
+Label LabelMedium::Tracker::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
     return impl_->accessor.getValue(toCoord(v));
 }
 
 template <class Events>
-FreeFlight LabelMedium::Sampler::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
+FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
     auto& acc = impl_->accessor;
     auto labelAt = [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
     const CellRay cellRay = medium_.toCellRay(ray);
@@ -73,30 +73,30 @@ FreeFlight LabelMedium::Sampler::sampleFlight(const Ray& ray, float tMax_mm, Eve
     return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
 }
 
-FreeFlight LabelMedium::Sampler::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
+FreeFlight LabelMedium::Tracker::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
     DeltaEvents events{medium_.luts_[channel], channel};
     return sampleFlight(ray, tMax_mm, events, rng);
 }
 
-FreeFlight LabelMedium::Sampler::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,
+FreeFlight LabelMedium::Tracker::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,
                                                       RGB& logRatio) {
     HeroEvents events{medium_.luts_, hero, logRatio};
     return sampleFlight(ray, tMax_mm, events, rng);
 }
 
-FreeFlight LabelMedium::Sampler::sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight) {
+FreeFlight LabelMedium::Tracker::sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight) {
     SpectralEvents events{medium_.luts_, weight};
     return sampleFlight(ray, tMax_mm, events, rng);
 }
 
-FreeFlight LabelMedium::Sampler::freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel,
+FreeFlight LabelMedium::Tracker::freeFlightAtDepth(const Ray& ray, float tMax_mm, int channel,
                                                    float opticalDepth) {
     auto& acc = impl_->accessor;
     return inverseTrack(medium_.toCellRay(ray), tMax_mm, opticalDepth, medium_.frame(), medium_.majorants_,
                         medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
 }
 
-float LabelMedium::Sampler::transmittance(const Ray& ray, float tMax_mm, int channel,
+float LabelMedium::Tracker::transmittance(const Ray& ray, float tMax_mm, int channel,
                                           TransmittanceRoulette roulette) {
     auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,

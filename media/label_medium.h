@@ -1,5 +1,5 @@
 // The heterogeneous medium inside the object: label grid + material table +
-// per-brick majorants. Samplers are per thread (each owns an OpenVDB value
+// per-brick majorants. Trackers are per thread (each owns an OpenVDB value
 // accessor) and are never shared.
 #pragma once
 
@@ -51,14 +51,16 @@ public:
     }
     Vec3i voxelAt(const Point3f& p) const { return toCellRay({p, {0, 0, 0}}).voxelAt(0.0f); }
 
-    class Sampler {
+    // One thread's way through the medium: free flights, transmittance and
+    // labels, read through its own voxel accessor.
+    class Tracker {
     public:
-        explicit Sampler(const LabelMedium& medium, Majorants majorants = Majorants::PerBrick);
-        ~Sampler();
-        Sampler(const Sampler&) = delete;
-        Sampler& operator=(const Sampler&) = delete;
+        explicit Tracker(const LabelMedium& medium, Majorants majorants = Majorants::PerBrick);
+        ~Tracker();
+        Tracker(const Tracker&) = delete;
+        Tracker& operator=(const Tracker&) = delete;
 
-        // Delta tracking along the ray up to tMax_mm (against the sampler's majorants).
+        // Delta tracking along the ray up to tMax_mm (against the tracker's majorants).
         FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
         // Three channels at once (media/collision_events.h): delta tracking for the
         // hero channel with log pdf ratios of the others, or spectral tracking.
@@ -80,7 +82,7 @@ public:
         std::optional<NearestSurface> nearestSurface(const Point3f& p);
 
     private:
-        // The null-collision trackers' loop (trackers.h) over the sampler's
+        // The null-collision trackers' loop (trackers.h) over the tracker's
         // majorants, with the events policy (collision_events.h).
         template <class Events>
         FreeFlight sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng);

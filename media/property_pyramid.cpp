@@ -69,7 +69,7 @@ PropertyPyramid::PropertyPyramid(const LabelMedium& medium, float baseCell_mm, i
     for (int cz = base.size.z - 1; cz >= 0; --cz)
         firstVoxelZ[size_t(cz)] = std::min(firstVoxelZ[size_t(cz)], firstVoxelZ[size_t(cz) + 1]);
     parallelForTiles(size_t(base.size.z), 1, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler sampler(medium);
+        LabelMedium::Tracker sampler(medium);
         const size_t slab = size_t(base.size.x) * size_t(base.size.y);
         std::vector<uint32_t> count(slab);
         for (size_t cz = begin; cz < end; ++cz) {

@@ -24,7 +24,7 @@
 
 #include <absl/container/flat_hash_map.h>
 
-#include "compare/color_difference.h"
+#include "compare/colour_difference.h"
 #include "prepare/halftone.h"
 
 namespace pl {

@@ -1,7 +1,5 @@
 #include "runtime/distributed.h"
 
-#include "core/image_neighbourhood.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -10,6 +8,8 @@
 #include <string>
 #include <thread>
 #include <type_traits>
+
+#include "core/image_neighbourhood.h"
 
 #ifdef PL_WITH_MPI
 #include <mpi.h>

@@ -17,7 +17,7 @@
 
 #include "core/film.h"
 #include "core/sensors.h"
-#include "integrators/integrator.h"
+#include "core/path_stats.h"
 
 namespace pl {
 
@@ -86,7 +86,7 @@ private:
     std::thread answering_;             // on rank 0, with more than one rank
 };
 
-// Light blocks shared round the ranks (scene/render.cpp): in a wave of
+// Light blocks shared round the ranks (render/render.cpp): in a wave of
 // `blocks` blocks, rank r < blocks has computed block r over every pixel
 // (`mine`; the others pass an empty vector). Every rank receives each
 // block's values at its own pixels (in pixelsOfRank's order), in block

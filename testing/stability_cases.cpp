@@ -8,12 +8,12 @@
 
 #include <unistd.h>
 
-#include "scene/render.h"
+#include "render/render.h"
 #include "testing/synthetic_scene.h"
 #include "io/grid_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/mesh_io.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

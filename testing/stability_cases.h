@@ -1,5 +1,5 @@
 // The numerical stability suite (printlight stability, docs/stability.md):
-// stiff and extreme scenes (DESIGN.md section 6), each rendered with volpath
+// stiff and extreme scenes (docs/stability.md), each rendered with volpath
 // and printpt and checked against a value whose origin is known: a closed
 // form, the furnace, Beer-Lambert, the other estimator, or the same scene
 // at the origin.

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "scene/render.h"
+#include "render/render.h"
 
 namespace pl::test {
 

@@ -1,8 +1,9 @@
-// The printlight command line: each bad input of DESIGN.md section 7 gives a
-// one-line error naming the file, a non-zero exit and no output file; good
-// input writes EXR, PNG and VDB and a summary line; --threads does not
-// change a single bit of the result. (Over 500 lines: one file for every
-// command's end-to-end behaviour, sharing the TestScene fixture.)
+// The printlight command line: each bad input (a missing or unreadable file,
+// a malformed scene, a bad option) gives a one-line error naming the file,
+// a non-zero exit and no output file; good input writes EXR, PNG and VDB
+// and a summary line; --threads does not change a single bit of the result.
+// (Over 500 lines: one file for every command's end-to-end behaviour,
+// sharing the TestScene fixture.)
 #include <algorithm>
 #include <gtest/gtest.h>
 

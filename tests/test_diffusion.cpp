@@ -12,7 +12,7 @@
 #include "integrators/diffusion.h"
 #include "media/beam_diffusion.h"
 #include "media/slab_transport.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "test_util.h"
 
 namespace pl {

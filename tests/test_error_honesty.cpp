@@ -13,7 +13,7 @@
 #include "compare/error_calibration.h"
 #include "core/sensors.h"
 #include "io/materials_io.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "test_util.h"
 
 namespace pl {

@@ -7,7 +7,7 @@
 #include "core/rng.h"
 #include "io/grid_io.h"
 #include "media/voxel_int_grid.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
 #include "io/mesh_repair.h"

@@ -12,11 +12,11 @@
 #include <tbb/global_control.h>
 
 #include "integrators/learned.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/learned_model_io.h"
 #include "io/materials_io.h"
 #include "media/slab_transport.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "test_util.h"
 
 namespace pl {
@@ -85,7 +85,7 @@ TEST(Learned, DescriptorIsBlindToAQuarterTurnAboutTheNormal) {
     const Scene b = test::boxScene({side, side, depth}, {voxel_mm, voxel_mm, voxel_mm},
                                    [&](const Vec3i& v) { return pattern(v.y, side - 1 - v.x, v.z); }, twoResins(), kIor);
     const LabelDescriptor da(*a.medium, uint64_t(1) << 30), db(*b.medium, uint64_t(1) << 30);
-    LabelMedium::Sampler sa(*a.medium), sb(*b.medium);
+    LabelMedium::Tracker sa(*a.medium), sb(*b.medium);
     const float top_mm = depth * voxel_mm, centre_mm = 0.5f * side * voxel_mm;
     for (const Vec3f offset : {Vec3f(0, 0, 0), Vec3f(0.4f, -0.2f, 0)}) {
         std::array<LabelDescriptor::Values, 3> va, vb;

@@ -166,7 +166,7 @@ TEST(LightTrace, HybridAgreesWithVolpath) {
                               SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     LightTrace hybrid(box, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
-    hybrid.prepare(sensor, {0, 1, 2});
+    hybrid.preprocess(sensor, {0, 1, 2});
     for (int c = 0; c < 3; ++c) {
         EXPECT_GT(hybrid.cameraOnlyPixels(c), sensor.pixelCount() / 2) << c;
         EXPECT_LT(hybrid.cameraOnlyPixels(c), 9 * sensor.pixelCount() / 10) << c;

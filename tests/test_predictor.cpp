@@ -6,10 +6,10 @@
 #include <fstream>
 
 #include "api/predictor.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "io/grid_io.h"
 #include "io/mesh_io.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 #include "test_util.h"
 
 namespace pl {

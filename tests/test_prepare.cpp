@@ -7,7 +7,7 @@
 
 #include "io/grid_io.h"
 #include "io/image_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/mesh_io.h"
 #include "prepare/halftone.h"
 #include "prepare/prepare_model.h"

@@ -12,13 +12,13 @@
 #include "api/printer_characterisation.h"
 #include "io/grid_io.h"
 #include "io/mesh_io.h"
-#include "scene/scene_io.h"
-#include "compare/color_difference.h"
+#include "render/scene_io.h"
+#include "compare/colour_difference.h"
 #include "core/rng.h"
 #include "core/sensors.h"
 #include "io/materials_io.h"
 #include "io/printer_gamut_io.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "test_util.h"
 
 namespace pl {

@@ -6,7 +6,7 @@
 #include <set>
 #include <variant>
 
-#include "scene/render.h"
+#include "render/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
 
@@ -339,7 +339,7 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     constexpr int kSamples = 3;
     const size_t pixels = sensor.pixelCount();
     ASSERT_GT(pixels, 20u);
-    auto radiance = [&](const PrintPt& pt, LabelMedium::Sampler& medium, size_t p, int s, int c) {
+    auto radiance = [&](const PrintPt& pt, LabelMedium::Tracker& medium, size_t p, int s, int c) {
         Rng rng = Rng::forPath(5, p, uint64_t(s), uint64_t(c));
         PathStats stats;
         return pt.Li(sensor.generateRay(p, 0.5f, 0.5f), c, medium, rng, stats).value;
@@ -347,14 +347,14 @@ TEST(PrintPt, ControlDecisionKeptPerEntryDoesNotDependOnTheOrder) {
     std::vector<float> byPixel(pixels * kSamples * 3), bySample(byPixel.size());
     {
         PrintPt pt(scene, options, 5);
-        LabelMedium::Sampler medium(*scene.medium);
+        LabelMedium::Tracker medium(*scene.medium);
         for (size_t p = 0; p < pixels; ++p)
             for (int c = 0; c < 3; ++c)
                 for (int s = 0; s < kSamples; ++s) byPixel[(p * kSamples + s) * 3 + c] = radiance(pt, medium, p, s, c);
     }
     {
         PrintPt pt(scene, options, 5);  // another integrator: nothing kept from the first counts
-        LabelMedium::Sampler medium(*scene.medium);
+        LabelMedium::Tracker medium(*scene.medium);
         for (int s = 0; s < kSamples; ++s)
             for (int c = 0; c < 3; ++c)
                 for (size_t p = 0; p < pixels; ++p) bySample[(p * kSamples + s) * 3 + c] = radiance(pt, medium, p, s, c);
@@ -420,8 +420,8 @@ TEST(PrintPt, ControlDecisionsDoNotDependOnTheImageSize) {
     OrthographicSensor small(pose, 5.0f, 16, 16), large(pose, 5.0f, 96, 96);
     auto radiance = [&](const Sensor& survey, uint64_t seed, const std::vector<Ray>& rays, PathStats& stats) {
         PrintPt pt(scene, options, seed);
-        pt.prepare(survey, {0, 1, 2});
-        LabelMedium::Sampler medium(*scene.medium);
+        pt.preprocess(survey, {0, 1, 2});
+        LabelMedium::Tracker medium(*scene.medium);
         std::vector<float> values;
         for (size_t i = 0; i < rays.size(); ++i)
             for (int c = 0; c < 3; ++c) {

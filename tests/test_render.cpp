@@ -6,7 +6,7 @@
 
 #include "core/fresnel.h"
 #include "integrators/half_space_walk.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
 

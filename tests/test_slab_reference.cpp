@@ -12,7 +12,7 @@
 
 #include <cmath>
 
-#include "scene/render.h"
+#include "render/render.h"
 #include "media/slab_transport.h"
 #include "render_estimate.h"
 #include "test_util.h"

@@ -55,7 +55,7 @@ Label layerLabelAt(float x_mm) {
 
 TEST(RegularTracking, TransmittanceOfLayeredMediumIsExact) {
     LabelMedium medium = layeredMedium();
-    LabelMedium::Sampler sampler(medium);
+    LabelMedium::Tracker sampler(medium);
     // The ray starts outside the grid and crosses every layer obliquely.
     Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
     for (float tMax : {0.5f, 1.3f, 1.9f, 2.6f, 3.3f, 4.0f, 5.5f, 8.0f}) {
@@ -76,7 +76,7 @@ TEST(RegularTracking, HomogeneousBeerLambert) {
     MaterialTable t;
     t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
     LabelMedium medium(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }), t);
-    LabelMedium::Sampler sampler(medium);
+    LabelMedium::Tracker sampler(medium);
     Ray r{{0.05f, 0.5f, 0.5f}, normalize(Vec3f(1.0f, 0.2f, 0.1f))};
     for (int c = 0; c < 3; ++c)
         for (float d : {0.01f, 0.1f, 0.5f, 1.0f})
@@ -103,7 +103,7 @@ TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
     const Ray inside{{0.05f, 0.5f, 0.5f}, normalize(Vec3f(1.0f, 0.2f, 0.1f))};
     for (const Case& c : {Case{&layered, oblique, 3.3f, 0}, Case{&layered, oblique, 3.3f, 2},
                           Case{&homogeneous, inside, 0.5f, 1}, Case{&homogeneous, inside, 0.2f, 2}}) {
-        LabelMedium::Sampler sampler(*c.medium);
+        LabelMedium::Tracker sampler(*c.medium);
         const double exact = sampler.transmittance(c.ray, c.tMax_mm, c.channel);
         ASSERT_GT(exact, 1e-4);
         ASSERT_LT(exact, 0.5) << c.tMax_mm << " " << c.channel;
@@ -127,7 +127,7 @@ TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
 void checkFreeFlight(LabelMedium& medium, const Ray& r, float tMax, int channel,
                      const std::function<double(double)>& tau, int n, uint64_t seed,
                      Majorants majorants = Majorants::PerBrick) {
-    LabelMedium::Sampler sampler(medium, majorants);
+    LabelMedium::Tracker sampler(medium, majorants);
     const int bins = 60;
     std::vector<double> observed(bins + 1, 0), expected(bins + 1, 0);
     Rng rng(seed, 11);
@@ -183,7 +183,7 @@ TEST(DeltaTracking, GlobalMajorantFreeFlightMatchesAnalyticOpticalDepth) {
 TEST(DeltaTracking, CollisionsReportTheLabelWhereTheyHappen) {
     LabelMedium medium = layeredMedium();
     for (Majorants majorants : {Majorants::PerBrick, Majorants::Global}) {
-        LabelMedium::Sampler sampler(medium, majorants);
+        LabelMedium::Tracker sampler(medium, majorants);
         Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
         Rng rng(8, 8);
         int checked = 0;
@@ -230,7 +230,7 @@ TEST(BallWalk, MatchesDeltaTrackingStoppedAtTheSphere) {
     t.byLabel[4] = material({sigma, sigma, sigma}, {albedo, albedo, albedo}, {g, g, g});
     // Anisotropic voxels; the ball sits in the middle of a 3 mm block.
     LabelMedium medium(test::boxGrid({60, 30, 100}, {0.05f, 0.1f, 0.03f}, [](const Vec3i&) { return Label(4); }), t);
-    LabelMedium::Sampler sampler(medium);
+    LabelMedium::Tracker sampler(medium);
     const Point3f center{1.5f, 1.5f, 1.5f};
     const Vec3f w0 = normalize(Vec3f(0.3f, -0.5f, 0.8f));
 

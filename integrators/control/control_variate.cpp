@@ -137,7 +137,7 @@ int ControlVariate::solidLabelAt(const Point3f& p) const {
 
 std::optional<ControlVariate::EntryControl> ControlVariate::forEntry(const Ray& inside,
                                                                     const SingleChannelPath& path,
-                                                                    LabelMedium::Sampler& medium) const {
+                                                                    LabelMedium::Tracker& medium) const {
     // The surface-voxel sensor sends the same ray for every sample of a
     // pixel, and a thread renders a pixel's samples one after another: the
     // decision (probes, fit, mean), a function of the entry and the channel
@@ -174,7 +174,7 @@ void ControlVariate::survey(const Sensor& sensor, const std::vector<int>& channe
     const size_t surveyed = sensor.surveyRayCount();
     const uint32_t weight = sensor.surveyRayWeight();
     parallelForTiles(surveyed, 64, [&](size_t begin, size_t end) {
-        LabelMedium::Sampler medium(*scene_.medium);
+        LabelMedium::Tracker medium(*scene_.medium);
         for (size_t i = begin; i < end; ++i) {
             const Ray camera = sensor.surveyRay(i);
             auto entry = scene_.geometry->intersect(camera);
@@ -191,7 +191,7 @@ void ControlVariate::survey(const Sensor& sensor, const std::vector<int>& channe
 }
 
 std::optional<ControlVariate::Fit> ControlVariate::fit(const Ray& inside, const SingleChannelPath& path,
-                                                       LabelMedium::Sampler& medium) const {
+                                                       LabelMedium::Tracker& medium) const {
     // Cheapest first: under a halftone the entry's brick holds several resins.
     if (solidLabelAt(inside.o) == MajorantGrid::kSeveralLabels) return std::nullopt;
     // The plane goes through the first point along the ray where the

@@ -70,7 +70,7 @@ public:
     // share it (controlMeanWalksPerEntry). Remembered per thread for the
     // last entry and channel (the samples of a pixel repeat them).
     std::optional<EntryControl> forEntry(const Ray& inside, const SingleChannelPath& path,
-                                         LabelMedium::Sampler& medium) const;
+                                         LabelMedium::Tracker& medium) const;
     // Counts the sensor's survey rays (Sensor::surveyRay) per control, for
     // the channels of single-channel passes; until then every control runs.
     void survey(const Sensor& sensor, const std::vector<int>& channels);
@@ -106,7 +106,7 @@ private:
         Label label = 0;
         Shape shape;
     };
-    std::optional<Fit> fit(const Ray& inside, const SingleChannelPath& path, LabelMedium::Sampler& medium) const;
+    std::optional<Fit> fit(const Ray& inside, const SingleChannelPath& path, LabelMedium::Tracker& medium) const;
     // Whether the bricks sampled below the entry, over reach_mm, hold only
     // material l (or void).
     bool materialBelow(const Ray& inside, Label l, float reach_mm, const HalfSpace& control) const;

@@ -42,7 +42,7 @@ struct ControlledPath : SingleChannelPath {
     float controlLight = 0.0f;     // g per unit environment radiance
     float partedValue = 0.0f;      // f - g up to where they parted
 
-    FreeFlight track(LabelMedium::Sampler& medium, const Ray& ray, float tMax_mm, Rng& rng) {
+    FreeFlight track(LabelMedium::Tracker& medium, const Ray& ray, float tMax_mm, Rng& rng) {
         const float opticalDepth = sampleOpticalDepth(rng.uniform());
         controlCollided = halfSpaceFlight(*control, walker, opticalDepth, controlLight);
         return medium.freeFlightAtDepth(ray, tMax_mm, channel, opticalDepth);

@@ -2,7 +2,7 @@
 // picks the format; the rest is the file). A grid that loads is also asked
 // for its surface voxels and histogram, which walk the whole tree.
 #include "io/grid_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,5 +1,5 @@
 // Fuzz target: material tables.
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/materials_io.h"
 #include "tests/fuzz/fuzz_input.h"
 

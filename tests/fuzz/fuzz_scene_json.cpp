@@ -1,8 +1,8 @@
 // Fuzz target: scene JSON (parseScene) and batch manifests, which share the
 // JSON reader.
-#include "scene/batch_manifest.h"
-#include "io/input_error.h"
-#include "scene/scene_io.h"
+#include "render/batch_manifest.h"
+#include "core/input_error.h"
+#include "render/scene_io.h"
 #include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

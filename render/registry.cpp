@@ -1,4 +1,4 @@
-#include "scene/registry.h"
+#include "render/registry.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 #include <cmath>
 
@@ -7,9 +7,9 @@
 #include "runtime/distributed.h"
 #include "runtime/memory_budget.h"
 #include "scene/homogeneous_core.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "io/grid_io.h"
-#include "io/input_error.h"
+#include "core/input_error.h"
 #include "io/json_util.h"
 #include "io/learned_model_io.h"
 #include "io/materials_io.h"

@@ -1,4 +1,4 @@
-#include "scene/render.h"
+#include "render/render.h"
 
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <string>
 
 #include "runtime/distributed.h"
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "runtime/interrupt.h"
 #include "runtime/progress.h"
 #include "runtime/scheduler.h"
@@ -58,7 +58,7 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
         for (int k = 0; k < blocks; ++k) {
             const uint32_t s = wave + uint32_t(k);
             parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-                LabelMedium::Sampler medium(*scene.medium, settings.majorants);
+                LabelMedium::Tracker medium(*scene.medium, settings.majorants);
                 PathStats stats;
                 for (size_t i = begin; i < end; ++i) {
                     if (interruptRequested()) return;
@@ -85,7 +85,7 @@ void renderWithLightPaths(const Integrator& integrator, const Scene& scene, cons
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
     std::unique_ptr<Integrator> integrator = integratorKindOf(settings).make(scene, sensor, settings, std::move(controlMeans));
-    if (!rendersChannelsInOnePass(settings)) integrator->prepare(sensor, passesOf(settings));
+    if (!rendersChannelsInOnePass(settings)) integrator->preprocess(sensor, passesOf(settings));
     return integrator;
 }
 
@@ -115,7 +115,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
             renderWithLightPaths(integrator, scene, sensor, settings, share, firstSample, count, channel, progress,
                                  result);
         else parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-            LabelMedium::Sampler medium(*scene.medium, settings.majorants);
+            LabelMedium::Tracker medium(*scene.medium, settings.majorants);
             PathStats stats;
             for (size_t i = begin; i < end; ++i) {
                 const size_t p = share.pixel(i);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <random>
 
-#include "compare/color_difference.h"
+#include "compare/colour_difference.h"
 #include "compare/surface_colour_error.h"
 #include "compare/surface_gaussian.h"
 

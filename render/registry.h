@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/render.h"
+#include "integrators/integrator.h"
+#include "render/render_settings.h"
+#include "scene/scene.h"
 
 namespace pl {
 

@@ -1,10 +1,10 @@
-#include "scene/batch_manifest.h"
+#include "render/batch_manifest.h"
 
 #include <set>
 
-#include "scene/registry.h"
+#include "render/registry.h"
 #include "io/json_util.h"
-#include "scene/scene_io.h"
+#include "render/scene_io.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "scene/progressive_render.h"
+#include "render/progressive_render.h"
 
 #include <algorithm>
 #include <chrono>

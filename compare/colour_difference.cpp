@@ -1,4 +1,4 @@
-#include "compare/color_difference.h"
+#include "compare/colour_difference.h"
 
 #include <cmath>
 

@@ -9,7 +9,7 @@
 #include <functional>
 #include <string>
 
-#include "scene/render.h"
+#include "render/render.h"
 
 namespace pl {
 

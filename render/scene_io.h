@@ -9,7 +9,7 @@
 
 #include "core/sensors.h"
 #include "io/length_units.h"
-#include "scene/render.h"
+#include "render/render.h"
 #include "scene/scene.h"
 
 namespace pl {
