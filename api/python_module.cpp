@@ -95,7 +95,7 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
     MeshPlacement placement;
     if (units) {
         placement.unit = parseLengthUnit(*units);
-        if (!placement.unit) throw std::invalid_argument("units must be m, mm or in");
+        if (!placement.unit) throw std::invalid_argument("units must be " + enumNames(kLengthUnitNames));
     }
     refuseToOverwriteInputs(output, {model});
     PrepareSettings settings;
@@ -164,7 +164,7 @@ PYBIND11_MODULE(printlight, m) {
                       [](Predictor& p) { return std::string(channelSamplingName(p.settings().channelSampling)); },
                       [](Predictor& p, const std::string& v) {
                           auto sampling = parseChannelSampling(v);
-                          if (!sampling) throw std::invalid_argument("channel_sampling must be separate, hero or spectral");
+                          if (!sampling) throw std::invalid_argument("channel_sampling must be " + enumNames(kChannelSamplingNames));
                           p.settings().channelSampling = *sampling;
                       })
         .def("set_adaptive",

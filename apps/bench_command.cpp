@@ -123,9 +123,10 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     return c;
 }
 
-// A named configuration with printpt switches overridden after slashes,
-// e.g. "printpt/k=1/rr_threshold=0.2/nee=1". Keys are the scene file's
-// render keys; nullopt for an unknown name.
+// A named configuration with printpt's (or lighttrace's) options
+// overridden after slashes, e.g. "printpt/k=1/rr_threshold=0.2/nee=1",
+// "lighttrace/particles_per_pixel=2". Keys are the scene file's render
+// keys; nullopt for an unknown name.
 std::optional<RenderSettings> parseConfiguration(const std::string& spec,
                                                  const std::map<std::string, RenderSettings>& named) {
     std::vector<std::string> parts = splitList(spec, '/');
@@ -133,8 +134,9 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
     RenderSettings s = named.at(parts[0]);
     for (size_t i = 1; i < parts.size(); ++i) {
         size_t eq = parts[i].find('=');
-        if (eq == std::string::npos || s.integrator != "printpt")
-            throw UsageError("configuration '" + spec + "': overrides are key=value on a printpt configuration");
+        if (eq == std::string::npos || (s.integrator != "printpt" && s.integrator != "lighttrace"))
+            throw UsageError("configuration '" + spec +
+                             "': overrides are key=value on a printpt or lighttrace configuration");
         std::string key = parts[i].substr(0, eq);
         double v = 0;
         try {
@@ -143,12 +145,17 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
             throw UsageError("configuration '" + spec + "': " + key + " needs a number");
         }
         if (key == "k") key = "branches";
+        // lighttrace's camera side is printpt: both tables apply to it.
+        auto isKeyOf = [&](const auto& table) {
+            return std::any_of(table.begin(), table.end(), [&](const auto& p) { return key == p.name; });
+        };
         std::string problem;
-        try {
-            problem = setPrintPtOption(s.printpt, key, v);
-        } catch (const std::invalid_argument&) {
+        if (s.integrator == "lighttrace" && isKeyOf(lightTraceParameters()))
+            problem = setOption(lightTraceParameters(), s.lighttrace, key, v);
+        else if (isKeyOf(printPtParameters()))
+            problem = setOption(printPtParameters(), s.printpt, key, v);
+        else
             throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
-        }
         if (!problem.empty()) throw UsageError("configuration '" + spec + "': " + key + " " + problem);
     }
     return s;

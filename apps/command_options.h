@@ -56,7 +56,7 @@ inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
     }
     if (auto cs = args.value("--channel-sampling")) {
         auto sampling = parseChannelSampling(*cs);
-        if (!sampling) throw UsageError("--channel-sampling must be separate, hero or spectral");
+        if (!sampling) throw UsageError("--channel-sampling must be " + enumNames(kChannelSamplingNames));
         r.channelSampling = *sampling;
     }
     // The scene's estimator unless the command line names one: checked,

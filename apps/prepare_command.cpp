@@ -80,7 +80,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
         if (!(x >= lo && x <= hi)) throw UsageError(std::string(opt) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
         return x;
     };
-    if (auto u = args.value("--units"); u && !parseLengthUnit(*u)) throw UsageError("--units must be m, mm or in");
+    if (auto u = args.value("--units"); u && !parseLengthUnit(*u)) throw UsageError("--units must be " + enumNames(kLengthUnitNames));
     std::optional<double> fitMm;
     if (args.has("--fit-mm")) fitMm = number("--fit-mm", 0.0f, 0.01f, 10000.0f);
     ps.extrude_mm = number("--extrude-mm", defaults.extrude_mm, 0.0f, 100.0f);

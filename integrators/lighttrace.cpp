@@ -18,6 +18,18 @@
 
 namespace pl {
 
+const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters() {
+    using O = LightTraceOptions;
+    static const std::vector<OptionParameter<O>> parameters = {
+        {"particles_per_pixel", &O::particlesPerPixel, 0, 1e6, true, "must be in (0, 1e6]",
+         "particles per sample (one block of light paths) for each sensor pixel"},
+        {"lighttrace_hybrid", &O::hybrid, 0, 0, false, "", "printpt takes the pixels it serves better"},
+        {"lighttrace_track_spacing_mfp", &O::trackSpacing_mfp, 0.01, 100, false,
+         "must be in [0.01, 100] (scattering mean free paths)", "the spacing of the scoring points along tracks"},
+    };
+    return parameters;
+}
+
 namespace {
 
 // Below this optical depth the transmittance to the surface is estimated

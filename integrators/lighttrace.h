@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/option_table.h"
 #include "core/prism_index.h"
 #include "core/sensors.h"
 #include "integrators/printpt.h"
@@ -52,6 +53,9 @@ struct LightTraceOptions {
     // most scattering label in the grid (per channel).
     float trackSpacing_mfp = 1.0f;
 };
+// Its numeric and boolean options by their scene-file names
+// (core/option_table.h; lighttrace_scoring is a name, render/scene_io).
+const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters();
 
 class LightTrace : public Integrator {
 public:

@@ -1,14 +1,6 @@
 #include "integrators/printpt_options.h"
 
-#include <stdexcept>
-
 namespace pl {
-
-PrintPtParameter::Kind PrintPtParameter::kind() const {
-    if (std::holds_alternative<bool PrintPtOptions::*>(field)) return Kind::Boolean;
-    if (std::holds_alternative<float PrintPtOptions::*>(field)) return Kind::Number;
-    return Kind::Integer;
-}
 
 const std::vector<PrintPtParameter>& printPtParameters() {
     using O = PrintPtOptions;
@@ -59,27 +51,6 @@ const std::vector<PrintPtParameter>& printPtParameters() {
          "a costly control runs where its mean's walks come to at most this many per surveyed entry"},
     };
     return parameters;
-}
-
-std::string setPrintPtOption(PrintPtOptions& options, const std::string& name, double value) {
-    for (const PrintPtParameter& p : printPtParameters()) {
-        if (name != p.name) continue;
-        if (auto flag = std::get_if<bool PrintPtOptions::*>(&p.field)) {
-            options.*(*flag) = value != 0.0;
-            return "";
-        }
-        const bool whole = p.kind() == PrintPtParameter::Kind::Integer;
-        const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
-        if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;
-        std::visit(
-            [&](auto member) {
-                using Field = std::remove_reference_t<decltype(options.*member)>;
-                options.*member = Field(value);
-            },
-            p.field);
-        return "";
-    }
-    throw std::invalid_argument("unknown printpt option '" + name + "'");
 }
 
 }  // namespace pl

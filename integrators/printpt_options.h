@@ -6,8 +6,9 @@
 
 #include <cstdint>
 #include <string>
-#include <variant>
 #include <vector>
+
+#include "core/option_table.h"
 
 namespace pl {
 
@@ -66,26 +67,11 @@ struct PrintPtOptions {
     int64_t controlMeanWalksPerEntry = 64;
 };
 
-// One switch by its scene-file name: the field it sets, its range and
-// what it does. Booleans take any value (non-zero: on); integer fields
-// whole numbers only.
-struct PrintPtParameter {
-    const char* name;
-    std::variant<bool PrintPtOptions::*, int PrintPtOptions::*, int64_t PrintPtOptions::*, float PrintPtOptions::*>
-        field;
-    double min = 0, max = 0;
-    bool minOpen = false;    // (min, max] instead of [min, max]
-    const char* rangeText;   // what a value out of range is told ("must be ...")
-    const char* doc;
-    enum class Kind { Boolean, Integer, Number };
-    Kind kind() const;
-};
-
+// printpt's switches by their scene-file names (core/option_table.h).
+using PrintPtParameter = OptionParameter<PrintPtOptions>;
 const std::vector<PrintPtParameter>& printPtParameters();
-
-// Sets the switch `name` (booleans: value != 0). Returns what is wrong with
-// the value ("must be in (0, 1]"), or "" if it was set; throws
-// std::invalid_argument for a name that is not a parameter.
-std::string setPrintPtOption(PrintPtOptions& options, const std::string& name, double value);
+inline std::string setPrintPtOption(PrintPtOptions& options, const std::string& name, double value) {
+    return setOption(printPtParameters(), options, name, value);
+}
 
 }  // namespace pl

@@ -4,6 +4,16 @@
 
 namespace pl {
 
+const std::vector<OptionParameter<VolPathOptions>>& volPathParameters() {
+    using O = VolPathOptions;
+    static const std::vector<OptionParameter<O>> parameters = {
+        {"max_depth", &O::maxDepth, -1e9, 1e9, false, "must be a whole number in -1e9..1e9",
+         "scattering events per path; negative: unlimited"},
+        {"reentry", &O::reentry, 0, 0, false, "", "trace light that leaves the object back against it"},
+    };
+    return parameters;
+}
+
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                           PathStats& stats) const {
     // The entry, asked once: the walk starts from it, and it names the pool.

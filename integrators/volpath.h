@@ -5,10 +5,14 @@
 
 #include <cstdint>
 
+#include "core/option_table.h"
 #include "integrators/integrator.h"
 #include "integrators/volume_walk.h"
 
 namespace pl {
+
+// volpath's options by their scene-file names (core/option_table.h).
+const std::vector<OptionParameter<VolPathOptions>>& volPathParameters();
 
 class VolPath : public Integrator {
 public:

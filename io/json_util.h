@@ -1,13 +1,16 @@
 // Reading JSON input files with errors that name the file and the key.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/enum_names.h"
 #include "core/rgb.h"
 #include "core/vecmath.h"
 
@@ -41,6 +44,15 @@ public:
     std::string string(const nlohmann::json& obj, const char* key, const std::string& where) const;
     std::string string(const nlohmann::json& obj, const char* key, const std::string& where,
                        const std::string& fallback) const;
+    // One of an enum's names (core/enum_names.h), or the fallback's where
+    // the key is absent.
+    template <class Enum, size_t N>
+    Enum choice(const nlohmann::json& obj, const char* key, const std::string& where,
+                const std::array<EnumName<Enum>, N>& names, Enum fallback) const {
+        const std::optional<Enum> value = parseEnum(names, string(obj, key, where, enumName(names, fallback)));
+        if (!value) fail(where + "." + key, "must be " + enumNames(names));
+        return *value;
+    }
     // A number broadcast to all three, or a list of three numbers.
     RGB rgb(const nlohmann::json& obj, const char* key, const std::string& where) const;
     Vec3f vec3(const nlohmann::json& obj, const char* key, const std::string& where) const;

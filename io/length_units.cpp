@@ -4,21 +4,9 @@
 
 namespace pl {
 
-std::optional<LengthUnit> parseLengthUnit(const std::string& name) {
-    if (name == "m") return LengthUnit::Metre;
-    if (name == "mm") return LengthUnit::Millimetre;
-    if (name == "in") return LengthUnit::Inch;
-    return std::nullopt;
-}
+std::optional<LengthUnit> parseLengthUnit(const std::string& name) { return parseEnum(kLengthUnitNames, name); }
 
-const char* lengthUnitName(LengthUnit unit) {
-    switch (unit) {
-        case LengthUnit::Metre: return "m";
-        case LengthUnit::Millimetre: return "mm";
-        case LengthUnit::Inch: return "in";
-    }
-    return "?";
-}
+const char* lengthUnitName(LengthUnit unit) { return enumName(kLengthUnitNames, unit); }
 
 double millimetresPer(LengthUnit unit) {
     switch (unit) {

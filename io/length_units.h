@@ -4,17 +4,22 @@
 // millimetres).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 
+#include "core/enum_names.h"
+
 namespace pl {
 
 enum class LengthUnit { Metre, Millimetre, Inch };
+inline constexpr std::array<EnumName<LengthUnit>, 3> kLengthUnitNames{
+    {{LengthUnit::Metre, "m"}, {LengthUnit::Millimetre, "mm"}, {LengthUnit::Inch, "in"}}};
 
 // "m", "mm" or "in"; none otherwise.
 std::optional<LengthUnit> parseLengthUnit(const std::string& name);
-const char* lengthUnitName(LengthUnit unit);  // "m", "mm", "in"
+const char* lengthUnitName(LengthUnit unit);
 double millimetresPer(LengthUnit unit);
 
 // What a mesh file's format says (or is taken to say) of its unit, and why.

@@ -19,7 +19,27 @@ namespace pl {
 
 namespace {
 constexpr int kMaxImageSide = 16384;
+
+// The render block's keys of one options table (core/option_table.h).
+template <class Options>
+void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::vector<OptionParameter<Options>>& table,
+                 Options& options) {
+    using Kind = typename OptionParameter<Options>::Kind;
+    for (const OptionParameter<Options>& p : table) {
+        if (!ren.contains(p.name)) continue;
+        const double value = p.kind() == Kind::Boolean   ? double(json.boolean(ren, p.name, "render", false))
+                             : p.kind() == Kind::Integer ? double(json.integer(ren, p.name, "render"))
+                                                         : json.number(ren, p.name, "render");
+        const std::string problem = setOption(table, options, p.name, value);
+        if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
+    }
 }
+
+// The scene keys' names of the render's enums.
+constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{{{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
+constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTraceScoringNames{
+    {{LightTraceOptions::Scoring::Collisions, "collisions"}, {LightTraceOptions::Scoring::Tracks, "tracks"}}};
+}  // namespace
 
 std::optional<std::vector<int>> parseChannels(const std::string& s) {
     if (s == "r") return std::vector<int>{0};
@@ -29,16 +49,9 @@ std::optional<std::vector<int>> parseChannels(const std::string& s) {
     return std::nullopt;
 }
 
-std::optional<ChannelSampling> parseChannelSampling(const std::string& s) {
-    if (s == "separate") return ChannelSampling::Separate;
-    if (s == "hero") return ChannelSampling::Hero;
-    if (s == "spectral") return ChannelSampling::Spectral;
-    return std::nullopt;
-}
+std::optional<ChannelSampling> parseChannelSampling(const std::string& s) { return parseEnum(kChannelSamplingNames, s); }
 
-const char* channelSamplingName(ChannelSampling s) {
-    return s == ChannelSampling::Separate ? "separate" : (s == ChannelSampling::Hero ? "hero" : "spectral");
-}
+const char* channelSamplingName(ChannelSampling s) { return enumName(kChannelSamplingNames, s); }
 
 std::string channelNames(const std::vector<int>& channels) {
     std::string s;
@@ -63,7 +76,7 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     if (obj.contains("mesh_units")) {
         const std::string unit = json.string(obj, "mesh_units", "object");
         d.meshPlacement.unit = parseLengthUnit(unit);
-        if (!d.meshPlacement.unit) json.fail("object.mesh_units", "must be m, mm or in");
+        if (!d.meshPlacement.unit) json.fail("object.mesh_units", "must be " + enumNames(kLengthUnitNames));
     }
     d.meshPlacement.scale = json.number(obj, "mesh_scale", "object", 1.0);
     d.meshRepair = json.boolean(obj, "mesh_repair", "object", false);
@@ -136,10 +149,12 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     r.learnedModel = learnedModelBeside(d.materialsFile);
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        std::vector<std::string> keys = {"integrator", "spp", "time_budget_s", "target_relative_error", "seed", "channel", "channel_sampling", "max_depth",
-                                         "reentry", "majorants", "particles_per_pixel", "lighttrace_hybrid",
-                                         "lighttrace_scoring", "lighttrace_track_spacing_mfp", "learned_model"};
-        for (const PrintPtParameter& p : printPtParameters()) keys.push_back(p.name);
+        std::vector<std::string> keys = {"integrator", "spp",       "time_budget_s",     "target_relative_error",
+                                         "seed",       "channel",   "channel_sampling",  "majorants",
+                                         "lighttrace_scoring",      "learned_model"};
+        for (const auto& p : volPathParameters()) keys.push_back(p.name);
+        for (const auto& p : lightTraceParameters()) keys.push_back(p.name);
+        for (const auto& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
@@ -159,40 +174,14 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         auto ch = parseChannels(json.string(ren, "channel", "render", "rgb"));
         if (!ch) json.fail("render.channel", "must be r, g, b or rgb");
         r.channels = *ch;
-        auto sampling = parseChannelSampling(
-            json.string(ren, "channel_sampling", "render", channelSamplingName(r.channelSampling)));
-        if (!sampling) json.fail("render.channel_sampling", "must be separate, hero or spectral");
-        r.channelSampling = *sampling;
-        const std::string majorants = json.string(ren, "majorants", "render", "bricks");
-        if (majorants != "bricks" && majorants != "global") json.fail("render.majorants", "must be bricks or global");
-        r.majorants = majorants == "global" ? Majorants::Global : Majorants::PerBrick;
-        r.volpath.maxDepth = json.integer(ren, "max_depth", "render", -1);
-        r.volpath.reentry = json.boolean(ren, "reentry", "render", false);
-        r.lighttrace.particlesPerPixel =
-            float(json.number(ren, "particles_per_pixel", "render", r.lighttrace.particlesPerPixel));
-        if (!(r.lighttrace.particlesPerPixel > 0.0f && r.lighttrace.particlesPerPixel <= 1e6f))
-            json.fail("render.particles_per_pixel", "must be in (0, 1e6]");
-        r.lighttrace.hybrid = json.boolean(ren, "lighttrace_hybrid", "render", r.lighttrace.hybrid);
-        const std::string scoring = json.string(ren, "lighttrace_scoring", "render",
-                                                 r.lighttrace.scoring == LightTraceOptions::Scoring::Tracks ? "tracks" : "collisions");
-        if (scoring != "collisions" && scoring != "tracks")
-            json.fail("render.lighttrace_scoring", "must be collisions or tracks");
+        r.channelSampling = json.choice(ren, "channel_sampling", "render", kChannelSamplingNames, r.channelSampling);
+        r.majorants = json.choice(ren, "majorants", "render", kMajorantsNames, r.majorants);
         r.lighttrace.scoring =
-            scoring == "tracks" ? LightTraceOptions::Scoring::Tracks : LightTraceOptions::Scoring::Collisions;
-        r.lighttrace.trackSpacing_mfp =
-            float(json.number(ren, "lighttrace_track_spacing_mfp", "render", r.lighttrace.trackSpacing_mfp));
-        if (!(r.lighttrace.trackSpacing_mfp >= 0.01f && r.lighttrace.trackSpacing_mfp <= 100.0f))
-            json.fail("render.lighttrace_track_spacing_mfp", "must be in [0.01, 100] (scattering mean free paths)");
+            json.choice(ren, "lighttrace_scoring", "render", kLightTraceScoringNames, r.lighttrace.scoring);
         if (ren.contains("learned_model")) r.learnedModel = dir / json.string(ren, "learned_model", "render");
-        for (const PrintPtParameter& p : printPtParameters()) {
-            if (!ren.contains(p.name)) continue;
-            using Kind = PrintPtParameter::Kind;
-            double value = p.kind() == Kind::Boolean   ? double(json.boolean(ren, p.name, "render", false))
-                           : p.kind() == Kind::Integer ? double(json.integer(ren, p.name, "render"))
-                                                       : json.number(ren, p.name, "render");
-            std::string problem = setPrintPtOption(r.printpt, p.name, value);
-            if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
-        }
+        readOptions(json, ren, volPathParameters(), r.volpath);
+        readOptions(json, ren, lightTraceParameters(), r.lighttrace);
+        readOptions(json, ren, printPtParameters(), r.printpt);
         if (std::string why = integratorKindOf(r).refusal(r); !why.empty()) json.fail("render.integrator", why);
     }
 

@@ -2,11 +2,13 @@
 // are relative to the scene file; the output path to the working directory.
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "core/enum_names.h"
 #include "core/sensors.h"
 #include "io/length_units.h"
 #include "render/render.h"
@@ -63,6 +65,8 @@ std::optional<std::vector<int>> parseChannels(const std::string& s);
 // The inverse: {0, 1, 2} -> "rgb", {1} -> "g".
 std::string channelNames(const std::vector<int>& channels);
 // "separate", "hero" or "spectral" (nullopt otherwise), and back.
+inline constexpr std::array<EnumName<ChannelSampling>, 3> kChannelSamplingNames{
+    {{ChannelSampling::Separate, "separate"}, {ChannelSampling::Hero, "hero"}, {ChannelSampling::Spectral, "spectral"}}};
 std::optional<ChannelSampling> parseChannelSampling(const std::string& s);
 const char* channelSamplingName(ChannelSampling s);
 

@@ -3,9 +3,6 @@
 // error, with every switch on and off; and it must pass the white furnace.
 #include <gtest/gtest.h>
 
-#include <set>
-#include <variant>
-
 #include "render/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
@@ -81,28 +78,6 @@ double sharedErrorSum(const RenderResult& r, int c) {
     double s = 0;
     for (size_t p = 0; p < r.film.pixelCount(); ++p) s += r.film.sharedError(p, c);
     return s;
-}
-
-// Every switch is declared once (integrators/printpt_options.cpp): each
-// has a scene-file row in docs/scene-format.md, takes its own default
-// without complaint, and refuses a value out of its range with its text.
-TEST(PrintPt, EverySwitchIsDeclaredOnceAndDocumented) {
-    const std::string doc = test::readText(test::sourceDir() / "docs/scene-format.md");
-    std::set<std::string> names;
-    for (const PrintPtParameter& p : printPtParameters()) {
-        EXPECT_TRUE(names.insert(p.name).second) << p.name << " declared twice";
-        EXPECT_NE(doc.find(std::string("| `") + p.name + "` |"), std::string::npos) << p.name << " undocumented";
-        EXPECT_GT(std::string(p.doc).size(), 10u) << p.name;
-        PrintPtOptions options;
-        const double byDefault = std::visit([&](auto member) { return double(options.*member); }, p.field);
-        EXPECT_EQ(setPrintPtOption(options, p.name, byDefault), "") << p.name;
-        if (p.kind() != PrintPtParameter::Kind::Boolean) {
-            EXPECT_EQ(setPrintPtOption(options, p.name, p.max * 2 + 1), p.rangeText) << p.name;
-            EXPECT_EQ(setPrintPtOption(options, p.name, p.min - 1), p.rangeText) << p.name;
-        }
-    }
-    PrintPtOptions options;
-    EXPECT_THROW(setPrintPtOption(options, "no_such_switch", 1), std::invalid_argument);
 }
 
 TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {

@@ -1,0 +1,61 @@
+// Options declared once: each by its scene-file name, the field of its
+// options struct it sets, its range and what it does. The scene parser,
+// bench's "estimator/key=value" configurations and the tests read the
+// same table (integrators/printpt_options.h, lighttrace.h, volpath.h).
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <variant>
+#include <vector>
+
+namespace pl {
+
+// Booleans take any value (non-zero: on); integer fields whole numbers
+// only.
+template <class Options>
+struct OptionParameter {
+    const char* name;
+    std::variant<bool Options::*, int Options::*, int64_t Options::*, float Options::*> field;
+    double min = 0, max = 0;
+    bool minOpen = false;   // (min, max] instead of [min, max]
+    const char* rangeText;  // what a value out of range is told ("must be ...")
+    const char* doc;
+    enum class Kind { Boolean, Integer, Number };
+    Kind kind() const {
+        if (std::holds_alternative<bool Options::*>(field)) return Kind::Boolean;
+        if (std::holds_alternative<float Options::*>(field)) return Kind::Number;
+        return Kind::Integer;
+    }
+};
+
+// Sets the option `name` (booleans: value != 0). Returns what is wrong
+// with the value ("must be in (0, 1]"), or "" if it was set; throws
+// std::invalid_argument for a name the table does not hold.
+template <class Options>
+std::string setOption(const std::vector<OptionParameter<Options>>& table, Options& options, const std::string& name,
+                      double value) {
+    using Parameter = OptionParameter<Options>;
+    for (const Parameter& p : table) {
+        if (name != p.name) continue;
+        if (auto flag = std::get_if<bool Options::*>(&p.field)) {
+            options.*(*flag) = value != 0.0;
+            return "";
+        }
+        const bool whole = p.kind() == Parameter::Kind::Integer;
+        const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
+        if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;
+        std::visit(
+            [&](auto member) {
+                using Field = std::remove_reference_t<decltype(options.*member)>;
+                options.*member = Field(value);
+            },
+            p.field);
+        return "";
+    }
+    throw std::invalid_argument("unknown option '" + name + "'");
+}
+
+}  // namespace pl

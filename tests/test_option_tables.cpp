@@ -1,0 +1,54 @@
+// Options declared once (core/option_table.h): every key of volpath's,
+// lighttrace's and printpt's tables is one render key of the scene file,
+// has its row in docs/scene-format.md, takes its own default without
+// complaint, and refuses a value out of its range with its text.
+#include <gtest/gtest.h>
+
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <variant>
+
+#include "integrators/lighttrace.h"
+#include "integrators/printpt_options.h"
+#include "integrators/volpath.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+template <class Options>
+void expectDeclaredOnceAndDocumented(const std::vector<OptionParameter<Options>>& table, std::set<std::string>& names,
+                                     const std::string& doc) {
+    using Kind = typename OptionParameter<Options>::Kind;
+    for (const OptionParameter<Options>& p : table) {
+        EXPECT_TRUE(names.insert(p.name).second) << p.name << " declared twice";
+        EXPECT_NE(doc.find(std::string("| `") + p.name + "` |"), std::string::npos) << p.name << " undocumented";
+        EXPECT_GT(std::string(p.doc).size(), 10u) << p.name;
+        Options options;
+        const double byDefault = std::visit([&](auto member) { return double(options.*member); }, p.field);
+        EXPECT_EQ(setOption(table, options, p.name, byDefault), "") << p.name;
+        if (p.kind() != Kind::Boolean) {
+            EXPECT_EQ(setOption(table, options, p.name, p.max * 2 + 1), p.rangeText) << p.name;
+            EXPECT_EQ(setOption(table, options, p.name, p.min - 1), p.rangeText) << p.name;
+        }
+        if (p.kind() == Kind::Integer) {
+            EXPECT_EQ(setOption(table, options, p.name, 0.5), p.rangeText) << p.name;
+        }
+    }
+    Options options;
+    EXPECT_THROW(setOption(table, options, "no_such_option", 1), std::invalid_argument);
+}
+
+TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
+    const std::string doc = test::readText(test::sourceDir() / "docs/scene-format.md");
+    std::set<std::string> names;
+    expectDeclaredOnceAndDocumented(volPathParameters(), names, doc);
+    expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
+    expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
+    // One render block: no key in two tables.
+    EXPECT_EQ(names.size(), volPathParameters().size() + lightTraceParameters().size() + printPtParameters().size());
+}
+
+}  // namespace
+}  // namespace pl
