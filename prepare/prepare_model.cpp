@@ -33,10 +33,11 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
         GridFrame planned = Voxelizer::frameFor(geometry.bounds(), vs);
         if (planned.voxelCount() > kMaxGridVoxels)
             throw PrepareError("voxel grid of " + std::to_string(planned.voxelCount()) + " voxels is too large");
-        // Measured on the greek cubes (docs/performance.md, "Tray-sized
-        // models"): the sdf/normal band ~20 bytes a band voxel, the labels
-        // ~4 bytes a shell voxel (the white core collapses to tiles), the
-        // colour grid ~14, per-slice arrays ~80 bytes a slice voxel.
+        // Measured on the greek cubes (docs/prepare.md, "Limits and what is
+        // left out"): the sdf/normal band ~20 bytes a band voxel, the
+        // labels ~4 bytes a shell voxel (the white core collapses to
+        // tiles), the colour grid ~14, per-slice arrays ~80 bytes a slice
+        // voxel.
         const double voxel_mm3 = double(vs.voxel_mm.x) * vs.voxel_mm.y * vs.voxel_mm.z;
         double area_mm2 = 0;
         for (size_t t = 0; t < mesh.triangleCount(); ++t) area_mm2 += mesh.triangleArea_mm2(t);
