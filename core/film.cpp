@@ -1,6 +1,5 @@
 #include "core/film.h"
 
-
 #include "core/image_neighbourhood.h"
 #include "core/sensors.h"
 
@@ -67,7 +66,8 @@ void Film::settleChannel(int channel, const Sensor* sensor) {
 
 void Film::keepSettled(int channel) {
     std::vector<Accumulator>& acc = acc_[size_t(channel)];
-    std::vector<Settled>& out = settled_[size_t(channel)];
+    std::vector<Settled>& out = settledValues_[size_t(channel)];
+    settled_[size_t(channel)] = true;
     out.assign(pixelCount_, Settled{0, 0, 0, 0, 0});  // a channel never opened: no samples
     for (size_t p = 0; p < acc.size(); ++p) {
         const Accumulator& a = acc[p];
@@ -94,23 +94,23 @@ std::vector<Film::PixelResiduals> Film::residuals(int channel) const {
     return out;
 }
 
-void Film::settleShare(int channel, const Sensor& sensor, const KeyPools& keys, const std::vector<uint32_t>& pixels,
-                       const std::function<WindowSamples(uint32_t)>& samplesOf) {
-    poolWith(channel, keys, ImageNeighbourhood(&sensor, sensor.pixelCount()), [&](size_t i) { return pixels[i]; },
-             [&](size_t q) { return samplesOf(uint32_t(q)); });
+void Film::settleShare(int channel, const ImageNeighbourhood& near, const KeyPools& keys,
+                       const std::vector<uint32_t>& pixels, const std::function<WindowSamples(uint32_t)>& samplesOf) {
+    poolWith(channel, keys, near, [&](size_t i) { return pixels[i]; }, [&](size_t q) { return samplesOf(uint32_t(q)); });
     keepSettled(channel);
 }
 
 std::vector<char> Film::packSettled(int channel) const {
-    const std::vector<Settled>& values = settled_[size_t(channel)];
+    const std::vector<Settled>& values = settledValues_[size_t(channel)];
     std::vector<char> bytes(values.size() * sizeof(Settled));
     if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
     return bytes;
 }
 
 void Film::unpackSettled(int channel, const std::vector<uint32_t>& pixels, const char* bytes) {
-    std::vector<Settled>& values = settled_[size_t(channel)];
-    if (values.empty()) values.assign(pixelCount_, Settled{0, 0, 0, 0, 0});
+    std::vector<Settled>& values = settledValues_[size_t(channel)];
+    if (!settled_[size_t(channel)]) values.assign(pixelCount_, Settled{0, 0, 0, 0, 0});
+    settled_[size_t(channel)] = true;
     std::vector<Accumulator>().swap(acc_[size_t(channel)]);
     for (size_t i = 0; i < pixels.size(); ++i) std::memcpy(&values[pixels[i]], bytes + i * sizeof(Settled), sizeof(Settled));
 }

@@ -62,7 +62,7 @@ public:
             for (int c = 0; c < kChannels; ++c) openChannel(c);
     }
     void openChannel(int channel) {
-        if (settled_[channel].empty()) acc_[channel].resize(pixelCount_);
+        if (!settled_[channel]) acc_[channel].resize(pixelCount_);
     }
 
     size_t pixelCount() const { return pixelCount_; }
@@ -124,7 +124,7 @@ public:
     // holds one channel's accumulators at a time; the values are those of
     // poolErrors (a channel never opened: no samples, 0).
     void settleChannel(int channel, const Sensor* sensor);
-    bool settled(int channel) const { return !settled_[channel].empty() || pixelCount_ == 0; }
+    bool settled(int channel) const { return settled_[channel]; }
     // The neighbourhood: pixels within this many image pixels along each
     // axis (a 5 x 5 window), and the most degrees of freedom its variance
     // counts for beside the pixel's own (units - 1).
@@ -132,16 +132,16 @@ public:
     static constexpr double kWindowDegreesOfFreedom = 8.0;
 
     uint32_t samples(size_t pixel, int channel) const {
-        return settled(channel) ? settled_[channel][pixel].count : acc_[channel][pixel].count;
+        return settled(channel) ? settledValues_[channel][pixel].count : acc_[channel][pixel].count;
     }
     float mean(size_t pixel, int channel) const {
-        return settled(channel) ? settled_[channel][pixel].mean : acc_[channel][pixel].mean;
+        return settled(channel) ? settledValues_[channel][pixel].mean : acc_[channel][pixel].mean;
     }
     // Standard error of the mean from the spread of the units (samples or
     // groups), each weighted by its size: sqrt(sample variance / n) when
     // every unit is one sample.
     float spreadError(size_t pixel, int channel) const {
-        return settled(channel) ? settled_[channel][pixel].spreadError : spreadError(acc_[channel][pixel]);
+        return settled(channel) ? settledValues_[channel][pixel].spreadError : spreadError(acc_[channel][pixel]);
     }
     // The error independent of other pixels':
     //  - with a part estimated from within (withinVariance): that estimate,
@@ -149,14 +149,14 @@ public:
     //  - otherwise, once pooled, the variance shrunk towards the
     //    neighbourhood's (poolErrors); before, the spread.
     float independentError(size_t pixel, int channel) const {
-        return settled(channel) ? settled_[channel][pixel].independentError
+        return settled(channel) ? settledValues_[channel][pixel].independentError
                                 : independentError(acc_[channel][pixel]);
     }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
     // one estimated quantity). Pixels that used the same one share it too.
     float sharedError(size_t pixel, int channel) const {
-        return settled(channel) ? settled_[channel][pixel].sharedError : sharedError(acc_[channel][pixel]);
+        return settled(channel) ? settledValues_[channel][pixel].sharedError : sharedError(acc_[channel][pixel]);
     }
     // The whole standard error of the mean: independent and shared parts.
     float standardError(size_t pixel, int channel) const {
@@ -232,13 +232,12 @@ public:
     //    pixels[i]) with the keys' pools and its windows' pixels, wherever
     //    they are held (samplesOf: a sensor pixel's WindowSamples), and
     //    settles.
-    void settleShare(int channel, const Sensor& sensor, const KeyPools& keys, const std::vector<uint32_t>& pixels,
-                     const std::function<WindowSamples(uint32_t)>& samplesOf);
+    void settleShare(int channel, const ImageNeighbourhood& near, const KeyPools& keys,
+                     const std::vector<uint32_t>& pixels, const std::function<WindowSamples(uint32_t)>& samplesOf);
     // A settled channel's values (every pixel's, in order) as bytes, and
     // back into the listed pixels of another film (shares across MPI
     // ranks are gathered settled).
     std::vector<char> packSettled(int channel) const;
-    static size_t packedSettledBytesPerPixel() { return sizeof(Settled); }
     void unpackSettled(int channel, const std::vector<uint32_t>& pixels, const char* bytes);
 
     // Bytes a pixel's channel holds before and after it is settled.
@@ -326,8 +325,8 @@ private:
     };
     size_t pixelCount_;
     std::array<std::vector<Accumulator>, kChannels> acc_;  // per channel, per pixel; empty once settled
-    std::array<std::vector<Settled>, kChannels> settled_;
+    std::array<std::vector<Settled>, kChannels> settledValues_;  // per channel, per pixel, once settled
+    std::array<bool, kChannels> settled_{};                       // the same on every rank whatever its share
 };
-
 
 }  // namespace pl

@@ -44,6 +44,8 @@ std::string setOption(const std::vector<OptionParameter<Options>>& table, Option
             options.*(*flag) = value != 0.0;
             return "";
         }
+        // A float field is checked as it will hold the value.
+        if (p.kind() == Parameter::Kind::Number) value = double(float(value));
         const bool whole = p.kind() == Parameter::Kind::Integer;
         const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
         if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/option_table.h"
 #include "core/prism_index.h"
 #include "core/sensors.h"
@@ -53,6 +54,8 @@ struct LightTraceOptions {
     // most scattering label in the grid (per channel).
     float trackSpacing_mfp = 1.0f;
 };
+inline constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTraceScoringNames{
+    {{LightTraceOptions::Scoring::Collisions, "collisions"}, {LightTraceOptions::Scoring::Tracks, "tracks"}}};
 // Its numeric and boolean options by their scene-file names
 // (core/option_table.h; lighttrace_scoring is a name, render/scene_io).
 const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters();

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/enum_names.h"
 #include "core/rng.h"
 #include "media/label_grid.h"
 #include "media/majorant_grid.h"
@@ -21,6 +22,8 @@ namespace pl {
 // majorants (clear resin and void cost little), or one majorant for the
 // whole grid (the textbook tracker, kept to measure the bricks against).
 enum class Majorants { PerBrick, Global };
+inline constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{
+    {{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
 
 class LabelMedium {
 public:

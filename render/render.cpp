@@ -1,6 +1,5 @@
 #include "render/render.h"
 
-
 #include <algorithm>
 #include <chrono>
 #include <mutex>

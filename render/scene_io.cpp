@@ -34,11 +34,6 @@ void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::v
         if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
     }
 }
-
-// The scene keys' names of the render's enums.
-constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{{{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
-constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTraceScoringNames{
-    {{LightTraceOptions::Scoring::Collisions, "collisions"}, {LightTraceOptions::Scoring::Tracks, "tracks"}}};
 }  // namespace
 
 std::optional<std::vector<int>> parseChannels(const std::string& s) {
@@ -270,14 +265,16 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
     // The film per surface voxel while rendering, and settled: across
     // ranks lighttrace's films hold each rank's share (and pooling adds
     // rank 0's copy of every pixel's residuals, 16 bytes, and the
-    // neighbours asked of other ranks, at most 24); other estimators'
-    // films are whole on every rank.
+    // neighbours asked of other ranks and answered: up to 1.6 for each of
+    // a rank's pixels, 32 bytes asking and 44 answering each, so about 64
+    // bytes a surface voxel at two ranks, less with more); other
+    // estimators' films are whole on every rank.
     const uint64_t ranks = uint64_t(Distributed::ranks());
     const uint64_t oneFilm = Film::bytesPerChannel() + 2 * Film::settledBytesPerChannel(),
                    settled = 3 * Film::settledBytesPerChannel();
     auto filmBytes = [&](bool lighttrace) -> uint64_t {
         if (ranks == 1) return oneFilm;
-        return lighttrace ? oneFilm / ranks + 16 + 24 : Film::packedBytesPerPixel();
+        return lighttrace ? oneFilm / ranks + 16 + 64 : Film::packedBytesPerPixel();
     };
     auto settledFilmBytes = [&](bool lighttrace) -> uint64_t {
         if (ranks == 1) return settled;

@@ -153,6 +153,7 @@ std::vector<T> exchangeLists(const std::vector<std::vector<T>>& lists, std::vect
         send.insert(send.end(), lists[size_t(r)].begin(), lists[size_t(r)].end());
     }
     receivedPerRank.assign(size_t(n), 0);
+    CommunicationTimer timer;
     MPI_Alltoall(sendCounts.data(), 1, MPI_INT, receivedPerRank.data(), 1, MPI_INT, MPI_COMM_WORLD);
     const Exchange out(sendCounts), in(receivedPerRank);
     std::vector<T> received(in.total);
@@ -164,36 +165,56 @@ std::vector<T> exchangeLists(const std::vector<std::vector<T>>& lists, std::vect
     MPI_Type_free(&element);
     return received;
 }
+
+// A key's residuals over the render, as rank 0 sends them to every rank.
+struct KeyTotal {
+    int32_t key;
+    Film::Moments moments;
+};
+static_assert(std::is_trivially_copyable_v<KeyTotal> && std::is_trivially_copyable_v<Film::PixelResiduals> &&
+              std::is_trivially_copyable_v<Film::WindowSamples>);
+
+// Every key's residuals, added on rank 0 in pixel order (as one film adds
+// them), then sent to every rank.
+Film::KeyPools poolKeysOnRankZero(const Film& film, int channel, size_t pixelCount) {
+    const int n = Distributed::ranks(), me = Distributed::rank();
+    Film::KeyPools keys;
+    std::vector<Film::PixelResiduals> mine = film.residuals(channel);
+    if (me != 0) {
+        CommunicationTimer timer;
+        sendBytes(mine.data(), mine.size() * sizeof(Film::PixelResiduals), 0, 5);
+    } else {
+        std::vector<std::vector<Film::PixelResiduals>> all(static_cast<size_t>(n));
+        all[0] = std::move(mine);
+        {
+            CommunicationTimer timer;
+            for (int r = 1; r < n; ++r) {
+                all[size_t(r)].resize(pixelCountOfRank(pixelCount, r, n));
+                receiveBytes(all[size_t(r)].data(), all[size_t(r)].size() * sizeof(Film::PixelResiduals), r, 5);
+            }
+        }
+        for (uint32_t p = 0; p < pixelCount; ++p)
+            Film::addResiduals(keys, all[size_t(rankOfPixel(p, n))][positionInShare(p, n)]);
+    }
+    std::vector<KeyTotal> table;
+    for (const auto& [key, moments] : keys) table.push_back({key, moments});
+    uint64_t size = table.size();
+    {
+        CommunicationTimer timer;
+        broadcastBytes(&size, sizeof size);
+        table.resize(size);
+        broadcastBytes(table.data(), size * sizeof(KeyTotal));
+    }
+    if (me != 0)
+        for (const KeyTotal& k : table) keys[k.key] = k.moments;
+    return keys;
+}
 }  // namespace
 
 void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const std::vector<uint32_t>& share) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     const size_t pixelCount = sensor.pixelCount();
-    CommunicationTimer timer;
-    // Every key's residuals, added on rank 0 in pixel order (as one film
-    // adds them), then sent to every rank.
-    Film::KeyPools keys;
-    {
-        std::vector<Film::PixelResiduals> mine = film.residuals(channel);
-        if (me != 0) {
-            sendBytes(mine.data(), mine.size() * sizeof(Film::PixelResiduals), 0, 5);
-        } else {
-            std::vector<std::vector<Film::PixelResiduals>> all(static_cast<size_t>(n));
-            all[0] = std::move(mine);
-            for (int r = 1; r < n; ++r) {
-                all[size_t(r)].resize(pixelCountOfRank(pixelCount, r, n));
-                receiveBytes(all[size_t(r)].data(), all[size_t(r)].size() * sizeof(Film::PixelResiduals), r, 5);
-            }
-            for (uint32_t p = 0; p < pixelCount; ++p)
-                Film::addResiduals(keys, all[size_t(rankOfPixel(p, n))][positionInShare(p, n)]);
-        }
-        std::vector<std::pair<int32_t, Film::Moments>> table(keys.begin(), keys.end());
-        uint64_t size = table.size();
-        broadcastBytes(&size, sizeof size);
-        table.resize(size);
-        broadcastBytes(table.data(), size * sizeof(table[0]));
-        if (me != 0) keys = Film::KeyPools(table.begin(), table.end());
-    }
+    const Film::KeyPools keys = poolKeysOnRankZero(film, channel, pixelCount);
     // The pixels of other ranks in this rank's windows: asked of their
     // ranks, which answer with their samples.
     const ImageNeighbourhood near(&sensor, pixelCount);
@@ -219,18 +240,19 @@ void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const
     // The answers, in rank order and each rank's in the order asked (by
     // pixel): found by rank, then by pixel.
     std::vector<uint32_t> askedInOrder;
-    std::vector<size_t> firstOfRank(size_t(n) + 1, 0);
+    std::vector<size_t> firstOfRank(static_cast<size_t>(n) + 1, 0);
     for (int r = 0; r < n; ++r) {
         askedInOrder.insert(askedInOrder.end(), asked[size_t(r)].begin(), asked[size_t(r)].end());
         firstOfRank[size_t(r) + 1] = askedInOrder.size();
     }
     std::vector<std::vector<uint32_t>>().swap(asked);
-    film.settleShare(channel, sensor, keys, share, [&](uint32_t q) {
+    film.settleShare(channel, near, keys, share, [&](uint32_t q) {
         const int r = rankOfPixel(q, n);
         if (r == me) return film.windowSamples(channel, positionInShare(q, n));
         const auto first = askedInOrder.begin() + long(firstOfRank[size_t(r)]);
         const auto last = askedInOrder.begin() + long(firstOfRank[size_t(r) + 1]);
         const auto at = std::lower_bound(first, last, q);
+        // Every pixel a window meets was asked for.
         return at != last && *at == q ? samples[size_t(at - askedInOrder.begin())] : Film::WindowSamples{};
     });
 }
@@ -238,6 +260,8 @@ void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const
 void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& share, Film& whole, PathStats& stats) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     CommunicationTimer timer;
+    std::vector<std::vector<uint32_t>> theirs(static_cast<size_t>(n));
+    for (int r = 1; me == 0 && r < n; ++r) theirs[size_t(r)] = pixelsOfRank(whole.pixelCount(), r, n);
     for (int c = 0; c < kChannels; ++c) {
         const std::vector<char> mine = film.packSettled(c);
         if (me != 0) {
@@ -246,10 +270,9 @@ void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& shar
         }
         whole.unpackSettled(c, share, mine.data());
         for (int r = 1; r < n; ++r) {
-            const std::vector<uint32_t> theirs = pixelsOfRank(whole.pixelCount(), r, n);
-            std::vector<char> bytes(theirs.size() * Film::packedSettledBytesPerPixel());
+            std::vector<char> bytes(theirs[size_t(r)].size() * Film::settledBytesPerChannel());
             receiveBytes(bytes.data(), bytes.size(), r, 6);
-            whole.unpackSettled(c, theirs, bytes.data());
+            whole.unpackSettled(c, theirs[size_t(r)], bytes.data());
         }
     }
     if (me != 0) {
@@ -257,9 +280,9 @@ void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& shar
         return;
     }
     for (int r = 1; r < n; ++r) {
-        PathStats theirs;
-        receiveBytes(&theirs, sizeof theirs, r, 2);
-        stats += theirs;
+        PathStats theirStats;
+        receiveBytes(&theirStats, sizeof theirStats, r, 2);
+        stats += theirStats;
     }
 }
 
@@ -417,8 +440,8 @@ int Distributed::ranks() { return 1; }
 bool Distributed::enabled() { return false; }
 double Distributed::secondsCommunicating() { return 0; }
 void gatherOnRankZero(Film&, PathStats&, const std::vector<uint32_t>&) {}
-void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const std::vector<uint32_t>&) {
-    film.settleChannel(channel, &sensor);
+void settleShareAcrossRanks(Film&, int, const Sensor&, const std::vector<uint32_t>&) {
+    throw std::logic_error("a film of a share settled without MPI");  // one process renders whole films
 }
 void gatherSettledOnRankZero(const Film&, const std::vector<uint32_t>&, Film&, PathStats&) {}
 ChunkDealer::ChunkDealer(size_t count) : count_(count) {}

@@ -286,6 +286,8 @@ TEST(Cli, MpiRanksGiveTheBitsOfOneProcess) {
     s.scene["sensor"]["footprint"] = "patch";
     s.write();
     expectSameBits("--spp 3 --integrator lighttrace");
+    // One channel: the others are settled empty on every rank alike.
+    expectSameBits("--spp 2 --integrator lighttrace --channel g");
     s.scene["render"]["lighttrace_hybrid"] = false;
     s.write();
     expectSameBits("--spp 3 --integrator lighttrace");
