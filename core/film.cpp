@@ -80,8 +80,7 @@ void Film::poolChannelErrors(int channel, const Sensor* sensor) {
     const std::vector<Accumulator>& acc = acc_[size_t(channel)];
     // Each key's residuals over the render (a key is of one channel).
     KeyPools keys;
-    for (const Accumulator& a : acc)
-        if (a.poolKey >= 0) keys[a.poolKey].add(residualMoments(a));
+    for (const Accumulator& a : acc) addResiduals(keys, residualsOf(a));
     poolWith(channel, keys, ImageNeighbourhood(sensor, acc.size()), [](size_t i) { return i; },
              [&](size_t q) { return windowSamplesOf(acc[q]); });
 }
@@ -89,8 +88,7 @@ void Film::poolChannelErrors(int channel, const Sensor* sensor) {
 std::vector<Film::PixelResiduals> Film::residuals(int channel) const {
     const std::vector<Accumulator>& acc = acc_[size_t(channel)];
     std::vector<PixelResiduals> out(pixelCount_);  // a channel never opened: none
-    for (size_t i = 0; i < acc.size(); ++i)
-        out[i] = {acc[i].poolKey, acc[i].pooledSamples, acc[i].residualMean, acc[i].residualM2};
+    for (size_t i = 0; i < acc.size(); ++i) out[i] = residualsOf(acc[i]);
     return out;
 }
 

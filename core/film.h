@@ -215,7 +215,7 @@ public:
     using KeyPools = std::unordered_map<int32_t, Moments>;
     std::vector<PixelResiduals> residuals(int channel) const;
     static void addResiduals(KeyPools& pools, const PixelResiduals& r) {
-        if (r.key >= 0) pools[r.key].add(residualMoments(r.samples, r.mean, r.m2));
+        if (r.key >= 0) pools[r.key].add(residualMoments(r));
     }
     //  - A pixel's samples as its neighbours' windows take them (kind 0:
     //    in no window): their count, units, mean and squared deviations.
@@ -263,12 +263,13 @@ private:
     // A pixel's pooled samples' residuals (every sample has one where it
     // has a key), and its samples: their residuals where they have a key,
     // their values otherwise.
-    static Moments residualMoments(const Accumulator& a) {
-        return residualMoments(a.pooledSamples, a.residualMean, a.residualM2);
+    static PixelResiduals residualsOf(const Accumulator& a) {
+        return {a.poolKey, a.pooledSamples, a.residualMean, a.residualM2};
     }
-    static Moments residualMoments(uint32_t samples, float mean, float m2) {
-        return {double(samples), double(samples), double(mean) * samples, double(m2)};
+    static Moments residualMoments(const PixelResiduals& r) {
+        return WindowSamples{0, r.samples, r.samples, r.mean, r.m2}.moments();
     }
+    static Moments residualMoments(const Accumulator& a) { return residualMoments(residualsOf(a)); }
     static WindowSamples windowSamplesOf(const Accumulator& a) {
         if (a.poolKey >= 0)
             return {windowKind(a), a.pooledSamples, a.pooledSamples, a.residualMean, a.residualM2};

@@ -99,10 +99,23 @@ int Distributed::ranks() { return rankCount; }
 bool Distributed::enabled() { return true; }
 double Distributed::secondsCommunicating() { return pl::secondsCommunicating; }
 
+namespace {
+// Every rank's statistics summed on rank 0, in rank order (the same sums
+// every time); the others' left as they were.
+void sumStatsOnRankZero(PathStats& stats) {
+    static_assert(std::is_trivially_copyable_v<PathStats>);
+    if (Distributed::rank() != 0) return sendBytes(&stats, sizeof stats, 0, 2);
+    for (int r = 1; r < Distributed::ranks(); ++r) {
+        PathStats theirs;
+        receiveBytes(&theirs, sizeof theirs, r, 2);
+        stats += theirs;
+    }
+}
+}  // namespace
+
 void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>& myPixels) {
     const int n = Distributed::ranks(), me = Distributed::rank();
     if (n == 1) return;
-    static_assert(std::is_trivially_copyable_v<PathStats>);
     CommunicationTimer timer;
     if (me != 0) {
         const uint64_t count = myPixels.size();
@@ -110,11 +123,8 @@ void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>&
         sendBytes(myPixels.data(), count * sizeof(uint32_t), 0, 1);
         const std::vector<char> bytes = film.packPixels(myPixels);
         sendBytes(bytes.data(), bytes.size(), 0, 1);
-        sendBytes(&stats, sizeof stats, 0, 2);
-        return;
     }
-    // In rank order: the same sums of the statistics every time.
-    for (int r = 1; r < n; ++r) {
+    for (int r = 1; me == 0 && r < n; ++r) {
         uint64_t count = 0;
         receiveBytes(&count, sizeof count, r, 1);
         std::vector<uint32_t> pixels(count);
@@ -122,12 +132,9 @@ void gatherOnRankZero(Film& film, PathStats& stats, const std::vector<uint32_t>&
         std::vector<char> bytes(pixels.size() * Film::packedBytesPerPixel());
         receiveBytes(bytes.data(), bytes.size(), r, 1);
         film.unpackPixels(pixels, bytes.data());
-        PathStats theirs;
-        receiveBytes(&theirs, sizeof theirs, r, 2);
-        stats += theirs;
     }
+    sumStatsOnRankZero(stats);
 }
-
 
 namespace {
 // Counts and offsets of an all-to-all exchange, in elements.
@@ -237,23 +244,18 @@ void settleShareAcrossRanks(Film& film, int channel, const Sensor& sensor, const
             answers[size_t(r)].push_back(film.windowSamples(channel, positionInShare(toAnswer[size_t(at)], n)));
     std::vector<int> answered;
     const std::vector<Film::WindowSamples> samples = exchangeLists(answers, answered);
-    // The answers, in rank order and each rank's in the order asked (by
+    // The answers come in rank order, each rank's in the order asked (by
     // pixel): found by rank, then by pixel.
-    std::vector<uint32_t> askedInOrder;
     std::vector<size_t> firstOfRank(static_cast<size_t>(n) + 1, 0);
-    for (int r = 0; r < n; ++r) {
-        askedInOrder.insert(askedInOrder.end(), asked[size_t(r)].begin(), asked[size_t(r)].end());
-        firstOfRank[size_t(r) + 1] = askedInOrder.size();
-    }
-    std::vector<std::vector<uint32_t>>().swap(asked);
+    for (int r = 0; r < n; ++r) firstOfRank[size_t(r) + 1] = firstOfRank[size_t(r)] + asked[size_t(r)].size();
     film.settleShare(channel, near, keys, share, [&](uint32_t q) {
         const int r = rankOfPixel(q, n);
         if (r == me) return film.windowSamples(channel, positionInShare(q, n));
-        const auto first = askedInOrder.begin() + long(firstOfRank[size_t(r)]);
-        const auto last = askedInOrder.begin() + long(firstOfRank[size_t(r) + 1]);
-        const auto at = std::lower_bound(first, last, q);
+        const std::vector<uint32_t>& list = asked[size_t(r)];
+        const auto at = std::lower_bound(list.begin(), list.end(), q);
         // Every pixel a window meets was asked for.
-        return at != last && *at == q ? samples[size_t(at - askedInOrder.begin())] : Film::WindowSamples{};
+        return at != list.end() && *at == q ? samples[firstOfRank[size_t(r)] + size_t(at - list.begin())]
+                                            : Film::WindowSamples{};
     });
 }
 
@@ -275,15 +277,7 @@ void gatherSettledOnRankZero(const Film& film, const std::vector<uint32_t>& shar
             whole.unpackSettled(c, theirs[size_t(r)], bytes.data());
         }
     }
-    if (me != 0) {
-        sendBytes(&stats, sizeof stats, 0, 2);
-        return;
-    }
-    for (int r = 1; r < n; ++r) {
-        PathStats theirStats;
-        receiveBytes(&theirStats, sizeof theirStats, r, 2);
-        stats += theirStats;
-    }
+    sumStatsOnRankZero(stats);
 }
 
 namespace {
