@@ -146,14 +146,11 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
         }
         if (key == "k") key = "branches";
         // lighttrace's camera side is printpt: both tables apply to it.
-        auto isKeyOf = [&](const auto& table) {
-            return std::any_of(table.begin(), table.end(), [&](const auto& p) { return key == p.name; });
-        };
         std::string problem;
-        if (s.integrator == "lighttrace" && isKeyOf(lightTraceParameters()))
-            problem = setOption(lightTraceParameters(), s.lighttrace, key, v);
-        else if (isKeyOf(printPtParameters()))
-            problem = setOption(printPtParameters(), s.printpt, key, v);
+        if (const auto* p = s.integrator == "lighttrace" ? findOption(lightTraceParameters(), key) : nullptr)
+            problem = setOption(*p, s.lighttrace, v);
+        else if (const auto* q = findOption(printPtParameters(), key))
+            problem = setOption(*q, s.printpt, v);
         else
             throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
         if (!problem.empty()) throw UsageError("configuration '" + spec + "': " + key + " " + problem);

@@ -31,33 +31,46 @@ struct OptionParameter {
     }
 };
 
-// Sets the option `name` (booleans: value != 0). Returns what is wrong
-// with the value ("must be in (0, 1]"), or "" if it was set; throws
-// std::invalid_argument for a name the table does not hold.
+// The table's option of that name, or none.
+template <class Options>
+const OptionParameter<Options>* findOption(const std::vector<OptionParameter<Options>>& table,
+                                           const std::string& name) {
+    for (const OptionParameter<Options>& p : table)
+        if (name == p.name) return &p;
+    return nullptr;
+}
+
+// Sets the option (booleans: value != 0). Returns what is wrong with the
+// value ("must be in (0, 1]"), or "" if it was set.
+template <class Options>
+std::string setOption(const OptionParameter<Options>& p, Options& options, double value) {
+    using Kind = typename OptionParameter<Options>::Kind;
+    if (auto flag = std::get_if<bool Options::*>(&p.field)) {
+        options.*(*flag) = value != 0.0;
+        return "";
+    }
+    // A float field is checked as it will hold the value.
+    if (p.kind() == Kind::Number) value = double(float(value));
+    const bool whole = p.kind() == Kind::Integer;
+    const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
+    if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;
+    std::visit(
+        [&](auto member) {
+            using Field = std::remove_reference_t<decltype(options.*member)>;
+            options.*member = Field(value);
+        },
+        p.field);
+    return "";
+}
+
+// The same by name; throws std::invalid_argument for a name the table
+// does not hold.
 template <class Options>
 std::string setOption(const std::vector<OptionParameter<Options>>& table, Options& options, const std::string& name,
                       double value) {
-    using Parameter = OptionParameter<Options>;
-    for (const Parameter& p : table) {
-        if (name != p.name) continue;
-        if (auto flag = std::get_if<bool Options::*>(&p.field)) {
-            options.*(*flag) = value != 0.0;
-            return "";
-        }
-        // A float field is checked as it will hold the value.
-        if (p.kind() == Parameter::Kind::Number) value = double(float(value));
-        const bool whole = p.kind() == Parameter::Kind::Integer;
-        const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
-        if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;
-        std::visit(
-            [&](auto member) {
-                using Field = std::remove_reference_t<decltype(options.*member)>;
-                options.*member = Field(value);
-            },
-            p.field);
-        return "";
-    }
-    throw std::invalid_argument("unknown option '" + name + "'");
+    const OptionParameter<Options>* p = findOption(table, name);
+    if (!p) throw std::invalid_argument("unknown option '" + name + "'");
+    return setOption(*p, options, value);
 }
 
 }  // namespace pl

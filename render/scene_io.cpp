@@ -30,7 +30,7 @@ void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::v
         const double value = p.kind() == Kind::Boolean   ? double(json.boolean(ren, p.name, "render", false))
                              : p.kind() == Kind::Integer ? double(json.integer(ren, p.name, "render"))
                                                          : json.number(ren, p.name, "render");
-        const std::string problem = setOption(table, options, p.name, value);
+        const std::string problem = setOption(p, options, value);
         if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
     }
 }
