@@ -258,7 +258,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         const std::vector<RGB> predicted = reflectance(p.radiance, environment);
         // Over the footprint: the prediction, and the same moved by one draw
         // of its noise (what the noise adds to the score).
-        const bool noisy = !integratorKindOf(predictor.settings()).deterministic;
+        const bool noisy = !capabilitiesOf(predictor.settings()).deterministic;
         const std::vector<RGB> moved =
             noisy ? movedByNoise(predicted, reflectance(p.standardError, environment), 1) : predicted;
         std::vector<std::vector<RGB>> filtered = eye.apply(std::vector<const std::vector<RGB>*>{&predicted, &moved});

@@ -201,7 +201,7 @@ SurfacePrediction Predictor::predict() {
         p.samples[i] = r.film.samples(i, rs.channels.front());
     }
     p.stats = allStats;
-    p.voxelsShareSamples = integrator->scoresLightPaths();
+    p.voxelsShareSamples = capabilitiesOf(rs).lightPathsServeEveryPixel;
     p.renderSeconds = r.seconds;
     p.updateSeconds = pendingUpdateSeconds_;
     pendingUpdateSeconds_ = 0;

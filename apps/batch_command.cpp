@@ -40,7 +40,7 @@ SceneDescription describeJob(const BatchJob& job, uint64_t seedOffset) {
     desc.render.seed = job.seed + seedOffset;
     if (job.integrator) desc.render.integrator = *job.integrator;
     if (job.channels) desc.render.channels = *job.channels;
-    if (std::string why = integratorKindOf(desc.render).refusal(desc.render); !why.empty())
+    if (std::string why = refusalOf(desc.render); !why.empty())
         throw InputError(job.sceneFile.string(), why);
     return desc;
 }

@@ -551,7 +551,7 @@ int benchCommand(const std::vector<std::string>& argv) {
         double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s, acrossRanks).seconds;  // calibration
         for (double budget : budgets) {
             if (fixedSpp && budget != budgets.front()) break;  // one render: the spp is fixed
-            s.spp = integratorKindOf(s).deterministic ? 1u : uint32_t(std::max(1.0, std::round(budget / perSpp)));
+            s.spp = capabilitiesOf(s).deterministic ? 1u : uint32_t(std::max(1.0, std::round(budget / perSpp)));
             if (acrossRanks) s.spp = broadcastFromRankZero(s.spp);  // rank 0's clock decides
             if (fixedSpp) s.spp = selfSpp;
             if (self) s.spp = std::max(s.spp, selfSpp);
@@ -583,7 +583,7 @@ int benchCommand(const std::vector<std::string>& argv) {
             if (self) selfFilms.push_back(std::move(r.film));
             rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
                             e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
-                            integratorKindOf(s).deterministic ? (medianRel <= target ? r.seconds : INFINITY)
+                            capabilitiesOf(s).deterministic ? (medianRel <= target ? r.seconds : INFINITY)
                                                               : timeToTarget(r.seconds, medianRel, target),
                             double(r.stats.scatterEvents) / (r.seconds * cores), colour, bias, withinTwoErrors});
             std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,

@@ -37,11 +37,10 @@ private:
 
 // Sets the estimator an option names, or says why it cannot run.
 inline void chooseIntegrator(RenderSettings& r, const std::string& name, const std::string& option) {
-    const IntegratorKind* kind = findIntegratorKind(name);
-    if (!kind) throw UsageError(option + " must be " + integratorNames());
+    if (!findIntegratorKind(name)) throw UsageError(option + " must be " + integratorNames());
     r.integrator = name;
-    if (std::string why = kind->refusal(r); !why.empty()) throw UsageError(why);
-    if (kind->deterministic) r.spp = 1;
+    if (std::string why = refusalOf(r); !why.empty()) throw UsageError(why);
+    if (capabilitiesOf(r).deterministic) r.spp = 1;
 }
 
 // Applies those of the render overrides the command line holds (a command

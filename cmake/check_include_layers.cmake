@@ -2,7 +2,7 @@
 # include its own folder's headers and those of the folders listed before
 # it (docs/architecture.md, "Layers"). Run by ctest:
 #   cmake -DSOURCE_DIR=<repository> -P cmake/check_include_layers.cmake
-set(layers core runtime compare media scene integrators prepare io render api testing apps)
+set(layers core runtime compare media scene prepare io integrators render api testing apps)
 
 set(violations "")
 foreach(folder IN LISTS layers)

@@ -16,6 +16,14 @@
 
 namespace pl {
 
+// The kinds of sensor as a set of bits: what an estimator takes
+// (integrators/integrator.h, IntegratorCapabilities::sensors).
+using SensorKinds = uint8_t;
+constexpr SensorKinds kCameraSensor = 1;              // perspective or orthographic
+constexpr SensorKinds kSurfaceVoxelRaySensor = 2;     // surface voxels, ray footprint
+constexpr SensorKinds kSurfaceVoxelPatchSensor = 4;   // surface voxels, patch footprint
+constexpr SensorKinds kEverySensorKind = kCameraSensor | kSurfaceVoxelRaySensor | kSurfaceVoxelPatchSensor;
+
 class Sensor {
 public:
     virtual ~Sensor() = default;

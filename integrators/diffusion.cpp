@@ -177,6 +177,11 @@ private:
 
 }  // namespace
 
+std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& sensor, const RenderSettings&,
+                                              std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Diffusion>(scene, sensor);
+}
+
 Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse(scene, sensor) {
     const LabelMedium& medium = *scene.medium;
     const size_t n = elementCount();

@@ -26,6 +26,9 @@ namespace pl {
 class Diffusion : public SurfaceResponse {
 public:
     Diffusion(const Scene& scene, const Sensor& sensor);
+    static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("diffusion", settings); }
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
 
     // Per surface element (the patches' pixels): the light that leaves
     // along the normal per unit light transmitted in, by single and by

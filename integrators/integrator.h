@@ -1,9 +1,12 @@
-// What the render driver asks of an estimator: the radiance arriving along
-// a camera ray, in one colour channel or in all three, from one path (or a
-// few branches).
+// What the render driver asks of an estimator: the samples of one pass,
+// rendered as the estimator needs, and what it declares of itself. Most
+// estimators are per-pixel: the radiance arriving along a camera ray, in one
+// colour channel or in all three, from one path (or a few branches).
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "core/film.h"
@@ -11,11 +14,15 @@
 #include "core/path_stats.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
+#include "runtime/pixel_share.h"
+#include "runtime/progress.h"
 #include "scene/scene.h"
 
 namespace pl {
 
 class Sensor;
+class HalfSpaceMeans;
+struct RenderSettings;
 
 // Boundary events in a row, without scattering, after which a path counts
 // as trapped (lossless total internal reflection) and ends.
@@ -85,24 +92,68 @@ RGB traceThreeChannels(const Scene& scene, ChannelSampling sampling, int hero, T
     return trace(HeroPath{&scene.medium->luts(), scene.environment, hero});
 }
 
-// One block of light paths' scores per pixel. The block's particles are
-// independent, so the variance of a pixel's score is the sum of each
-// particle's, which the sum of the particles' squared scores (each
-// particle's whole score in the pixel, squared) estimates, without bias for
-// particles that enter anywhere with one density and conservatively where
-// entries are stratified (it also counts each particle's mean squared).
-// It rests on every particle that reached the pixel, not on a few blocks.
-struct LightBlockScores {
-    std::vector<double> score, scoreSq;
-    void assign(size_t pixels) {
-        score.assign(pixels, 0.0);
-        scoreSq.assign(pixels, 0.0);
-    }
+// What an estimator declares of itself for a render's settings, before it
+// is made: the render driver, the scene loader and the memory check ask
+// this, never the estimator's name.
+struct IntegratorCapabilities {
+    SceneNeeds needs;  // what the scene must load
+    // It can take all three channels from one path (else a pass per channel).
+    bool threeChannelsInOnePath = false;
+    // Every sample of a pixel is the same (a deterministic predictor): one
+    // sample says all, and its error is bias, which more time does not
+    // reduce.
+    bool deterministic = false;
+    // A sample's light paths score into every pixel: across MPI ranks each
+    // rank renders a fixed share of the pixels in step with the others
+    // (no work stealing) and its film holds that share alone.
+    bool lightPathsServeEveryPixel = false;
+    // The sensors it takes (the scene parser refuses others).
+    SensorKinds sensors = kEverySensorKind;
 };
 
+// One pass of a render: samples [firstSample, firstSample + count) of the
+// share's pixels in one channel, or in all three (channel -1, sampled as
+// channelSampling says). Sample s of pixel p is the same path whichever
+// call (or rank) renders it.
+struct RenderPass {
+    const Scene& scene;
+    const Sensor& sensor;
+    const PixelShare& share;
+    uint32_t firstSample, count;
+    int channel;
+    uint64_t seed;
+    Majorants majorants;
+    ChannelSampling channelSampling;
+};
+
+// An estimator: it renders passes, each in the way it needs (one camera
+// path per pixel sample, or light paths shared by every pixel). Each class
+// also declares, as static members the registry reads (render/registry.h):
+//   static IntegratorCapabilities capabilities(const RenderSettings&);
+//   static std::unique_ptr<Integrator> create(const Scene&, const Sensor&,
+//       const RenderSettings&, std::shared_ptr<HalfSpaceMeans> controlMeans);
+// and, if some settings cannot run, refusal (inherited: none).
 class Integrator {
 public:
     virtual ~Integrator() = default;
+    // Called once before rendering the sensor's pixels in these channels
+    // (single-channel passes): a chance to look at all entries first.
+    virtual void preprocess(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
+    // Adds the pass's samples of each pixel of its share to the film (at
+    // share.filmPixel), what its paths did to stats, and advances progress
+    // by each pixel's samples as they are done. Stops early on Ctrl-C
+    // (runtime/interrupt.h). Across ranks with light paths, collective.
+    virtual void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const = 0;
+
+    // Why these settings cannot run (one line, naming the scene key), or "".
+    static std::string refusal(const RenderSettings& /*settings*/) { return {}; }
+};
+
+// The estimators that render each pixel sample with one camera path, alone
+// (volpath, printpt, the deterministic predictors): the render is the
+// driver's loop over tiles of pixels, samples in order.
+class PixelIntegrator : public Integrator {
+public:
     // Radiance arriving along -ray.d at ray.o (a point outside the object).
     virtual ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                              PathStats& stats) const = 0;
@@ -110,24 +161,11 @@ public:
     // channel uniformly) or Spectral sampling (channel_paths.h).
     virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
                       PathStats& stats) const = 0;
-    // Called once before rendering the sensor's pixels in these channels
-    // (single-channel passes): a chance to look at all entries first.
-    virtual void preprocess(const Sensor& /*sensor*/, const std::vector<int>& /*channels*/) {}
-
-    // Estimators that also trace paths from the light (lighttrace) score,
-    // for sample `sample` of a channel's pass, one block of light paths into
-    // every pixel: block.score[p] (zeroed by the caller) is added to pixel
-    // p's camera sample, and block.scoreSq[p], the block's own estimate of
-    // that score's variance, goes with it (LightBlockScores).
-    virtual bool scoresLightPaths() const { return false; }
-    virtual void scoreLightBlock(int /*channel*/, uint32_t /*sample*/, LightBlockScores& /*block*/,
-                                 PathStats& /*stats*/) const {}
-    // With light paths: the camera's share of pixel p's sample, what the
-    // light paths do not score there.
-    virtual ChannelSample cameraSide(size_t /*pixel*/, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-                                     PathStats& stats) const {
-        return Li(ray, channel, medium, rng, stats);
-    }
+    void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const final;
 };
+
+// The refusal of an estimator that traces no re-entry, for a scene that
+// asks for it.
+std::string refusalWithoutReentry(const char* name, const RenderSettings& settings);
 
 }  // namespace pl

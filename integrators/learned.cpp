@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 
 #include "core/input_error.h"
+#include "integrators/render_settings.h"
+#include "io/learned_model_io.h"
 #include "runtime/scheduler.h"
 
 namespace pl {
@@ -65,6 +67,21 @@ void describeSurface(const LabelDescriptor& descriptor, const SurfaceVoxelSensor
             std::copy(values[size_t(c)].begin(), values[size_t(c)].end(),
                       out + ((i - begin) * 3 + size_t(c)) * LabelDescriptor::kSize);
     }
+}
+
+std::string Learned::refusal(const RenderSettings& settings) {
+    std::string why = refusalWithoutReentry("learned", settings);
+    if (why.empty()) try {
+            loadLearnedModel(settings.learnedModel);
+        } catch (const std::exception& e) {
+            why = e.what();
+        }
+    return why;
+}
+
+std::unique_ptr<Integrator> Learned::create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                            std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Learned>(scene, sensor, loadLearnedModel(settings.learnedModel));
 }
 
 Learned::Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const LearnedModel> model)

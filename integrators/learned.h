@@ -9,7 +9,7 @@
 #include <memory>
 
 #include "integrators/label_descriptor.h"
-#include "integrators/learned_model.h"
+#include "io/learned_model.h"
 #include "integrators/surface_response.h"
 
 namespace pl {
@@ -18,6 +18,12 @@ class Learned : public SurfaceResponse {
 public:
     // Throws InputError when the model was trained for other materials or voxels.
     Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const LearnedModel> model);
+    // Its model is read up front (settings.learnedModel); whether it was
+    // trained for the scene's materials and voxels is known once the scene
+    // is loaded.
+    static std::string refusal(const RenderSettings& settings);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
 };
 
 // The descriptors of elements [begin, end) of a surface-voxel sensor with

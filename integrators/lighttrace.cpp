@@ -13,6 +13,8 @@
 #include <stdexcept>
 #include <unordered_set>
 
+#include "integrators/render_settings.h"
+#include "runtime/distributed.h"
 #include "runtime/interrupt.h"
 #include "runtime/scheduler.h"
 
@@ -104,6 +106,70 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
         for (auto& serves : lightServes_) serves[p] = !sliver && !(options.hybrid && oneResin) ? 1 : 0;
     }
     decideEmissionShares();
+}
+
+IntegratorCapabilities LightTrace::capabilities(const RenderSettings& settings) {
+    IntegratorCapabilities c;
+    c.needs = {settings.printpt.nee, true};
+    c.lightPathsServeEveryPixel = true;
+    c.sensors = kSurfaceVoxelPatchSensor;
+    return c;
+}
+
+std::unique_ptr<Integrator> LightTrace::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+                                               std::shared_ptr<HalfSpaceMeans> controlMeans) {
+    return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed,
+                                        std::move(controlMeans));
+}
+
+void LightTrace::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
+    if (pass.channel < 0) throw std::logic_error("lighttrace renders one channel per pass");
+    const PixelShare& share = pass.share;
+    const size_t n = share.size(pass.sensor.pixelCount());
+    const int ranks = share.acrossRanks ? Distributed::ranks() : 1, rank = share.acrossRanks ? Distributed::rank() : 0;
+    std::mutex statsMutex;
+    for (uint32_t wave = pass.firstSample; wave < pass.firstSample + pass.count; wave += uint32_t(ranks)) {
+        const int blocks = int(std::min<uint32_t>(uint32_t(ranks), pass.firstSample + pass.count - wave));
+        LightBlockScores mine;
+        if (rank < blocks) {
+            mine.assign(pass.sensor.pixelCount());
+            scoreLightBlock(pass.channel, wave + uint32_t(rank), mine, stats);
+        }
+        // Across ranks: by position in this rank's share; in one process:
+        // by pixel.
+        std::vector<LightBlockScores> light(1);
+        if (share.acrossRanks) {
+            const size_t pixels = pass.sensor.pixelCount();
+            std::vector<std::vector<double>> scores = shareBlocksByPixel(std::move(mine.score), pixels, blocks);
+            std::vector<std::vector<double>> squares = shareBlocksByPixel(std::move(mine.scoreSq), pixels, blocks);
+            light.resize(size_t(blocks));
+            for (size_t k = 0; k < size_t(blocks); ++k) light[k] = {std::move(scores[k]), std::move(squares[k])};
+        } else {
+            light[0] = std::move(mine);
+        }
+        for (int k = 0; k < blocks; ++k) {
+            const uint32_t s = wave + uint32_t(k);
+            parallelForTiles(n, 64, [&](size_t begin, size_t end) {
+                LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
+                PathStats tileStats;
+                for (size_t i = begin; i < end; ++i) {
+                    if (interruptRequested()) return;
+                    const size_t p = share.pixel(i);
+                    Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
+                    float u0 = rng.uniform(), u1 = rng.uniform();
+                    ChannelSample sample =
+                        cameraSide(p, pass.sensor.generateRay(p, u0, u1), pass.channel, medium, rng, tileStats);
+                    const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
+                    sample.value += float(light[size_t(k)].score[at]);
+                    sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
+                    film.add(share.filmPixel(i), pass.channel, sample);
+                }
+                progress.advance(end - begin);
+                std::lock_guard<std::mutex> lock(statsMutex);
+                stats += tileStats;
+            });
+        }
+    }
 }
 
 void LightTrace::preprocess(const Sensor& sensor, const std::vector<int>& channels) {

@@ -60,6 +60,21 @@ inline constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTrace
 // (core/option_table.h; lighttrace_scoring is a name, render/scene_io).
 const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters();
 
+// One block of light paths' scores per pixel. The block's particles are
+// independent, so the variance of a pixel's score is the sum of each
+// particle's, which the sum of the particles' squared scores (each
+// particle's whole score in the pixel, squared) estimates, without bias for
+// particles that enter anywhere with one density and conservatively where
+// entries are stratified (it also counts each particle's mean squared).
+// It rests on every particle that reached the pixel, not on a few blocks.
+struct LightBlockScores {
+    std::vector<double> score, scoreSq;
+    void assign(size_t pixels) {
+        score.assign(pixels, 0.0);
+        scoreSq.assign(pixels, 0.0);
+    }
+};
+
 class LightTrace : public Integrator {
 public:
     // The sensor must be the surface-voxel sensor with the patch footprint
@@ -70,25 +85,34 @@ public:
                PrintPtOptions printpt, Majorants majorants, uint64_t seed,
                std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
 
-    // Without the light side: printpt's estimate.
-    ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const override {
-        return printpt_.Li(ray, channel, medium, rng, stats);
-    }
-    RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
-              PathStats& stats) const override {
-        return printpt_.LiRGB(ray, sampling, hero, medium, rng, stats);
-    }
+    // Light paths serve every pixel; particles walk one channel (separate
+    // passes); the patches of a surface-voxel sensor only.
+    static IntegratorCapabilities capabilities(const RenderSettings& settings);
+    static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("lighttrace", settings); }
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+
     // printpt's census, then (hybrid) the pixels whose walks run with a
     // control go to printpt.
     void preprocess(const Sensor& sensor, const std::vector<int>& channels) override;
-    bool scoresLightPaths() const override { return true; }
-    void scoreLightBlock(int channel, uint32_t sample, LightBlockScores& block, PathStats& stats) const override;
+    // Sample by sample, the block of light paths, then every pixel's camera
+    // side plus what the block scored there, with the block's own estimate
+    // of that score's variance. Across MPI ranks the samples go in waves of
+    // one block per rank, each rank receiving every block's scores at its
+    // own pixels (runtime/distributed.h): a pixel's samples are the same
+    // sums in the same order as in one process. Single channel only.
+    void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const override;
+    // For sample `sample` of a channel's pass, one block of light paths
+    // scored into every pixel: block.score[p] (zeroed by the caller) is
+    // added to pixel p's camera sample, and block.scoreSq[p], the block's
+    // own estimate of that score's variance, goes with it.
+    void scoreLightBlock(int channel, uint32_t sample, LightBlockScores& block, PathStats& stats) const;
     // The reflection and the unscattered light of the line's first segment
     // where the light side scores; elsewhere printpt's whole estimate
     // (patches too small for the light side, and entries where printpt's
     // walks run with a control, which is nearly exact there).
     ChannelSample cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-                             PathStats& stats) const override;
+                             PathStats& stats) const;
     // The light side scores into pixels whose patch is at least this
     // fraction of the voxel's cross section along the patch's normal:
     // smaller ones (slivers of triangles the cut gave to a voxel) would take

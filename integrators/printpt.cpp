@@ -5,9 +5,22 @@
 #include "core/fresnel.h"
 #include "core/sampling.h"
 #include "integrators/control/controlled_path.h"
+#include "integrators/render_settings.h"
 #include "media/ball_walk.h"
 
 namespace pl {
+
+IntegratorCapabilities PrintPt::capabilities(const RenderSettings& settings) {
+    IntegratorCapabilities c;
+    c.needs = {settings.printpt.nee, settings.printpt.clearance || settings.printpt.ballWalks};
+    c.threeChannelsInOnePath = !settings.printpt.nee;
+    return c;
+}
+
+std::unique_ptr<Integrator> PrintPt::create(const Scene& scene, const Sensor&, const RenderSettings& settings,
+                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
+    return std::make_unique<PrintPt>(scene, settings.printpt, settings.seed, std::move(controlMeans));
+}
 
 ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                           PathStats& stats) const {

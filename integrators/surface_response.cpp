@@ -10,6 +10,12 @@ namespace pl {
 
 SurfaceResponse::~SurfaceResponse() = default;
 
+IntegratorCapabilities SurfaceResponse::capabilities(const RenderSettings&) {
+    IntegratorCapabilities c;
+    c.deterministic = true;
+    return c;
+}
+
 SurfaceResponse::SurfaceResponse(const Scene& scene, const Sensor& sensor) : scene_(scene) {
     // Predictors look at the surface around each element: they need all of
     // it, the sensor's patches if it has every surface voxel's, else the

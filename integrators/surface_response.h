@@ -23,8 +23,11 @@ struct SurfacePoint {
 };
 SurfacePoint surfacePointOf(const SurfaceVoxelSensor& surface, size_t pixel);
 
-class SurfaceResponse : public Integrator {
+class SurfaceResponse : public PixelIntegrator {
 public:
+    // Deterministic; single-channel passes (the error bound goes with
+    // single-channel samples, as their sharedError).
+    static IntegratorCapabilities capabilities(const RenderSettings& settings);
     ~SurfaceResponse() override;
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

@@ -1,5 +1,6 @@
 #include "integrators/volpath.h"
 
+#include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
 
 namespace pl {
@@ -12,6 +13,18 @@ const std::vector<OptionParameter<VolPathOptions>>& volPathParameters() {
         {"reentry", &O::reentry, 0, 0, false, "", "trace light that leaves the object back against it"},
     };
     return parameters;
+}
+
+IntegratorCapabilities VolPath::capabilities(const RenderSettings& settings) {
+    IntegratorCapabilities c;
+    c.needs = {false, settings.volpath.clearanceFirst};
+    c.threeChannelsInOnePath = true;
+    return c;
+}
+
+std::unique_ptr<Integrator> VolPath::create(const Scene& scene, const Sensor&, const RenderSettings& settings,
+                                            std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<VolPath>(scene, settings.volpath);
 }
 
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

@@ -14,8 +14,12 @@ namespace pl {
 // volpath's options by their scene-file names (core/option_table.h).
 const std::vector<OptionParameter<VolPathOptions>>& volPathParameters();
 
-class VolPath : public Integrator {
+class VolPath : public PixelIntegrator {
 public:
+    // Three channels from one path; the clearance if flights look for it first.
+    static IntegratorCapabilities capabilities(const RenderSettings& settings);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
     VolPath(const Scene& scene, VolPathOptions options) : scene_(scene), options_(options) {}
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <memory>
 
-#include "integrators/learned_model.h"
+#include "io/learned_model.h"
 
 namespace pl {
 

@@ -1,7 +1,9 @@
-// The integrators by name: the one place that knows which exist, makes
-// them, and says what each needs and refuses. Adding an integrator is its
-// own file pair (the Integrator interface, its options in RenderSettings)
-// and one entry in integratorKinds() (registry.cpp).
+// The integrators by name: the one place that knows which exist. Each entry
+// is a name and the estimator's factory, read from the class's own static
+// members (integrators/integrator.h): what it declares for a render's
+// settings, why it refuses some, and how it is made. Adding an integrator
+// is its own file pair and one line in integratorKinds() (registry.cpp);
+// docs/architecture.md, "Adding an integrator".
 #pragma once
 
 #include <memory>
@@ -9,36 +11,47 @@
 #include <vector>
 
 #include "integrators/integrator.h"
-#include "render/render_settings.h"
+#include "integrators/render_settings.h"
 #include "scene/scene.h"
 
 namespace pl {
 
-struct IntegratorKind {
-    const char* name;
-    // What the scene must load for these settings.
-    SceneNeeds (*needs)(const RenderSettings&);
+struct IntegratorFactory {
+    IntegratorCapabilities (*capabilities)(const RenderSettings&);
     // Why these settings cannot run (one line, naming the scene key), or "".
     std::string (*refusal)(const RenderSettings&);
-    // Whether it can take all three channels from one path (else a pass
-    // per channel).
-    bool (*threeChannelsInOnePath)(const RenderSettings&);
-    std::unique_ptr<Integrator> (*make)(const Scene&, const Sensor&, const RenderSettings&,
-                                        std::shared_ptr<HalfSpaceMeans>);
-    // Whether every sample of a pixel is the same (a deterministic
-    // predictor): one sample says all, and its error is bias, which more
-    // time does not reduce.
-    bool deterministic = false;
+    std::unique_ptr<Integrator> (*create)(const Scene&, const Sensor&, const RenderSettings&,
+                                          std::shared_ptr<HalfSpaceMeans>);
+};
+
+// The factory of estimator class E.
+template <class E>
+IntegratorFactory factoryOf() {
+    return {&E::capabilities, &E::refusal, &E::create};
+}
+
+struct IntegratorKind {
+    const char* name;
+    IntegratorFactory factory;
 };
 
 const std::vector<IntegratorKind>& integratorKinds();
+// Adds a kind after the built-in ones (an estimator outside the library,
+// e.g. a test's); its name must be new.
+void registerIntegrator(const IntegratorKind& kind);
 // The kind of that name, or none.
 const IntegratorKind* findIntegratorKind(const std::string& name);
 // The settings' kind (settings.integrator must name one).
 const IntegratorKind& integratorKindOf(const RenderSettings& settings);
-// "volpath or printpt": for messages about a name that is none of them.
+// "volpath, printpt or lighttrace": for messages about a name that is none of them.
 std::string integratorNames();
+// What the settings' integrator declares for them.
+inline IntegratorCapabilities capabilitiesOf(const RenderSettings& settings) {
+    return integratorKindOf(settings).factory.capabilities(settings);
+}
 // What the scene must load for these settings' integrator.
-inline SceneNeeds sceneNeedsOf(const RenderSettings& settings) { return integratorKindOf(settings).needs(settings); }
+inline SceneNeeds sceneNeedsOf(const RenderSettings& settings) { return capabilitiesOf(settings).needs; }
+// Why the settings' integrator cannot run them, or "".
+inline std::string refusalOf(const RenderSettings& settings) { return integratorKindOf(settings).factory.refusal(settings); }
 
 }  // namespace pl

@@ -22,82 +22,21 @@ std::vector<int> passesOf(const RenderSettings& settings) {
     return rendersChannelsInOnePass(settings) ? std::vector<int>{-1} : settings.channels;
 }
 
-// One channel's samples with light paths (Integrator::scoreLightBlock):
-// sample by sample, the block of light paths, then every pixel's camera
-// sample plus what the block scored there, with the block's own estimate
-// of that score's variance. Across MPI ranks the samples
-// go in waves of one block per rank, each rank receiving every block's
-// scores at its own pixels (runtime/distributed.h): a pixel's samples are
-// the same sums in the same order as in one process.
-void renderWithLightPaths(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
-                          const RenderSettings& settings, const PixelShare& share, uint32_t firstSample,
-                          uint32_t count, int channel, ProgressBar& progress, RenderResult& result) {
-    const size_t n = share.size(sensor.pixelCount());
-    const int ranks = share.acrossRanks ? Distributed::ranks() : 1, rank = share.acrossRanks ? Distributed::rank() : 0;
-    std::mutex statsMutex;
-    for (uint32_t wave = firstSample; wave < firstSample + count; wave += uint32_t(ranks)) {
-        const int blocks = int(std::min<uint32_t>(uint32_t(ranks), firstSample + count - wave));
-        LightBlockScores mine;
-        if (rank < blocks) {
-            mine.assign(sensor.pixelCount());
-            integrator.scoreLightBlock(channel, wave + uint32_t(rank), mine, result.stats);
-        }
-        // Across ranks: by position in this rank's share; in one process:
-        // by pixel.
-        std::vector<LightBlockScores> light(1);
-        if (share.acrossRanks) {
-            const size_t pixels = sensor.pixelCount();
-            std::vector<std::vector<double>> scores = shareBlocksByPixel(std::move(mine.score), pixels, blocks);
-            std::vector<std::vector<double>> squares = shareBlocksByPixel(std::move(mine.scoreSq), pixels, blocks);
-            light.resize(size_t(blocks));
-            for (size_t k = 0; k < size_t(blocks); ++k) light[k] = {std::move(scores[k]), std::move(squares[k])};
-        } else {
-            light[0] = std::move(mine);
-        }
-        for (int k = 0; k < blocks; ++k) {
-            const uint32_t s = wave + uint32_t(k);
-            parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-                LabelMedium::Tracker medium(*scene.medium, settings.majorants);
-                PathStats stats;
-                for (size_t i = begin; i < end; ++i) {
-                    if (interruptRequested()) return;
-                    const size_t p = share.pixel(i);
-                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel));
-                    float u0 = rng.uniform(), u1 = rng.uniform();
-                    ChannelSample sample =
-                        integrator.cameraSide(p, sensor.generateRay(p, u0, u1), channel, medium, rng, stats);
-                    const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
-                    sample.value += float(light[size_t(k)].score[at]);
-                    sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
-                    result.film.add(share.filmPixel(i), channel, sample);
-                }
-                progress.advance(end - begin);
-                std::lock_guard<std::mutex> lock(statsMutex);
-                result.stats += stats;
-            });
-        }
-    }
-}
-
 }  // namespace
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
-    std::unique_ptr<Integrator> integrator = integratorKindOf(settings).make(scene, sensor, settings, std::move(controlMeans));
+    std::unique_ptr<Integrator> integrator =
+        integratorKindOf(settings).factory.create(scene, sensor, settings, std::move(controlMeans));
     if (!rendersChannelsInOnePass(settings)) integrator->preprocess(sensor, passesOf(settings));
     return integrator;
-}
-
-PixelShare PixelShare::ofThisRank(size_t pixelCount) {
-    if (Distributed::ranks() == 1) return {};
-    return {pixelsOfRank(pixelCount, Distributed::rank(), Distributed::ranks()), true};
 }
 
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
                    RenderResult& result, bool lastSamples) {
     // A deterministic estimator's samples are all the same: one says all.
-    if (integratorKindOf(settings).deterministic) {
+    if (capabilitiesOf(settings).deterministic) {
         if (firstSample > 0) return;
         count = std::min(count, 1u);
     }
@@ -105,52 +44,13 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
     const size_t n = share.size(sensor.pixelCount());
     const std::vector<int> passes = passesOf(settings);
     ProgressBar progress(uint64_t(n) * passes.size() * count, "rendering", settings.showProgress);
-    std::mutex statsMutex;
     for (int channel : passes) {
         const auto passStart = std::chrono::steady_clock::now();
         for (int c = 0; c < kChannels; ++c)
             if (channel < 0 || c == channel) result.film.openChannel(c);
-        if (integrator.scoresLightPaths())
-            renderWithLightPaths(integrator, scene, sensor, settings, share, firstSample, count, channel, progress,
-                                 result);
-        else parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-            LabelMedium::Tracker medium(*scene.medium, settings.majorants);
-            PathStats stats;
-            for (size_t i = begin; i < end; ++i) {
-                const size_t p = share.pixel(i);
-                // Hero channels go round the samples from a random start per
-                // pixel (independent of the paths): each sample's hero is
-                // uniform, and every three samples of a pixel have all three.
-                const uint32_t heroOffset = uint32_t(mix64(mix64(settings.seed ^ 0x6865726fULL) ^ p) % 3);
-                // Stratified heroes: samples 3j, 3j+1, 3j+2 go to the film as one group.
-                double group[3] = {0, 0, 0};
-                uint32_t inGroup = 0;
-                for (uint32_t s = firstSample; s < firstSample + count; ++s) {
-                    if (interruptRequested()) return;  // Ctrl-C: the film is discarded by the caller
-                    // The path's random stream depends only on (seed, pixel, sample, channel or 3 for all).
-                    Rng rng = Rng::forPath(settings.seed, p, s, uint64_t(channel < 0 ? 3 : channel));
-                    float u0 = rng.uniform(), u1 = rng.uniform();
-                    Ray ray = sensor.generateRay(p, u0, u1);
-                    if (channel >= 0) {
-                        result.film.add(share.filmPixel(i), channel, integrator.Li(ray, channel, medium, rng, stats));
-                        continue;
-                    }
-                    int hero = int((s + heroOffset) % 3);
-                    RGB L = integrator.LiRGB(ray, settings.channelSampling, hero, medium, rng, stats);
-                    for (int c = 0; c < 3; ++c) group[c] += L[c];
-                    ++inGroup;
-                    const bool stratified = settings.channelSampling == ChannelSampling::Hero;
-                    if (!stratified || s % 3 == 2 || s + 1 == firstSample + count) {
-                        for (int c = 0; c < 3; ++c) result.film.addGroup(share.filmPixel(i), c, group[c], inGroup);
-                        group[0] = group[1] = group[2] = 0;
-                        inGroup = 0;
-                    }
-                }
-            }
-            progress.advance((end - begin) * count);
-            std::lock_guard<std::mutex> lock(statsMutex);
-            result.stats += stats;
-        });
+        const RenderPass pass{scene,   sensor,        share,          firstSample, count,
+                              channel, settings.seed, settings.majorants, settings.channelSampling};
+        integrator.render(pass, result.film, result.stats, progress);
         if (channel >= 0)
             result.passSeconds[channel] +=
                 float(std::chrono::duration<double>(std::chrono::steady_clock::now() - passStart).count());
@@ -177,7 +77,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
 
 bool rendersChannelsInOnePass(const RenderSettings& settings) {
     if (settings.channelSampling == ChannelSampling::Separate || settings.channels.size() != 3) return false;
-    if (!integratorKindOf(settings).threeChannelsInOnePath(settings)) return false;
+    if (!capabilitiesOf(settings).threeChannelsInOnePath) return false;
     bool seen[3] = {false, false, false};
     for (int c : settings.channels) seen[c] = true;
     return seen[0] && seen[1] && seen[2];
@@ -237,7 +137,7 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
     auto work = [&] {
         // Light paths serve every pixel: their shares are fixed (the
         // blocks' scores go to each pixel's rank); other estimators steal.
-        if (share.acrossRanks && !integrator->scoresLightPaths()) {
+        if (share.acrossRanks && !capabilitiesOf(settings).lightPathsServeEveryPixel) {
             result.film = Film(sensor.pixelCount());
             share.pixels = renderClaimedChunks(*integrator, scene, sensor, settings, result);
             return;

@@ -11,7 +11,8 @@
 #include "core/film.h"
 #include "core/sensors.h"
 #include "integrators/integrator.h"
-#include "render/render_settings.h"
+#include "integrators/render_settings.h"
+#include "runtime/pixel_share.h"
 #include "scene/scene.h"
 
 namespace pl {
@@ -44,26 +45,6 @@ std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sen
 
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);
-
-// The pixels a call renders: all, a list, or across MPI ranks this rank's
-// part of a render the other ranks take part in (rank 0 pools the
-// residuals once it has gathered the films). With light paths a rank's
-// part lies in its share (pixelsOfRank, runtime/distributed.h) and every
-// rank calls in step (the light paths are shared round them).
-struct PixelShare {
-    std::vector<uint32_t> pixels;  // empty: all in one process, none across ranks
-    bool acrossRanks = false;
-    // The film holds the share's pixels alone, by position in the share
-    // (across ranks: each rank's film only its own; settled on the ranks
-    // and gathered settled on rank 0).
-    bool filmOfShare = false;
-    // This rank's share with more than one rank; else all pixels.
-    static PixelShare ofThisRank(size_t pixelCount);
-    size_t size(size_t pixelCount) const { return pixels.empty() && !acrossRanks ? pixelCount : pixels.size(); }
-    size_t pixel(size_t i) const { return pixels.empty() ? i : pixels[i]; }
-    // Where the share's pixel i stands in the film.
-    size_t filmPixel(size_t i) const { return filmOfShare ? i : pixel(i); }
-};
 
 // Adds samples [firstSample, firstSample + count) of the share's pixels to
 // result.film, for every channel of the settings. Sample s of pixel p is

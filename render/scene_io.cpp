@@ -34,6 +34,22 @@ void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::v
         if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
     }
 }
+
+SensorKinds sensorKindOf(const SensorDescription& sensor) {
+    if (sensor.type != "surface_voxels") return kCameraSensor;
+    return sensor.footprint == SurfaceVoxelSensor::Footprint::Patch ? kSurfaceVoxelPatchSensor : kSurfaceVoxelRaySensor;
+}
+
+// The sensors of a set as the scene file spells them.
+std::string sensorKindsText(SensorKinds kinds) {
+    std::vector<std::string> names;
+    if (kinds & kCameraSensor) names.push_back("a \"perspective\" or \"orthographic\" sensor");
+    if (kinds & kSurfaceVoxelRaySensor) names.push_back("a \"surface_voxels\" sensor with \"footprint\": \"ray\"");
+    if (kinds & kSurfaceVoxelPatchSensor) names.push_back("a \"surface_voxels\" sensor with \"footprint\": \"patch\"");
+    std::string text;
+    for (size_t i = 0; i < names.size(); ++i) text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+    return text + " only";
+}
 }  // namespace
 
 std::optional<std::vector<int>> parseChannels(const std::string& s) {
@@ -177,8 +193,10 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         readOptions(json, ren, volPathParameters(), r.volpath);
         readOptions(json, ren, lightTraceParameters(), r.lighttrace);
         readOptions(json, ren, printPtParameters(), r.printpt);
-        if (std::string why = integratorKindOf(r).refusal(r); !why.empty()) json.fail("render.integrator", why);
+        if (std::string why = refusalOf(r); !why.empty()) json.fail("render.integrator", why);
     }
+    if (!(capabilitiesOf(r).sensors & sensorKindOf(s)))
+        json.fail("sensor", r.integrator + " takes " + sensorKindsText(capabilitiesOf(r).sensors));
 
     // output
     if (root.contains("output")) {
@@ -289,7 +307,7 @@ void requireSurfaceSensorMemory(const SceneDescription& desc, const GridFrame& f
         return std::max({renderBytes, imageBytes, afterScene - std::min(afterScene, inUse)});
     };
     const bool patch = desc.sensor.footprint == SurfaceVoxelSensor::Footprint::Patch;
-    const bool lighttrace = desc.render.integrator == "lighttrace";
+    const bool lighttrace = capabilitiesOf(desc.render).lightPathsServeEveryPixel;
     const uint64_t bytes = peakBytes(patch, lighttrace);
     std::string remedy = "a coarser voxel (prepare --voxel) or a smaller model would fit; MPI ranks share only "
                          "lighttrace's film (each holds the whole scene and sensor)";

@@ -472,6 +472,16 @@ TEST(Cli, MajorantsAreBricksOrAGlobalOne) {
     EXPECT_NE(r.err.find("must be bricks or global"), std::string::npos) << r.err;
 }
 
+// An estimator declares the sensors it takes: the scene is refused before
+// anything loads.
+TEST(Cli, EstimatorsRefuseSensorsTheyDoNotTake) {
+    TestScene s("lighttrace_ray_footprint");
+    s.scene["render"]["integrator"] = "lighttrace";
+    CliRun r = s.render();
+    expectCleanFailure(s, r, "scene.json", "sensor: lighttrace takes a \"surface_voxels\" sensor with "
+                                           "\"footprint\": \"patch\" only");
+}
+
 // printpt's switches: one table for the scene file and bench's overrides.
 TEST(Cli, PrintPtSwitchesAreChecked) {
     struct Case {
