@@ -181,6 +181,239 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
     }
 }
 
+// The targets as the printer can show them: clamped to [0, 1], the
+// nearest printable colour of each (mapped, unless the gamut map is off)
+// and the mixture that shows it, which the loop prints first.
+struct MappedTargets {
+    std::vector<RGB> given, mapped;
+    std::vector<MaterialFractions> mixture;
+    std::vector<Lab> request;  // the colour each voxel's mixture is asked to show
+};
+
+MappedTargets mapTargets(const PrinterGamut& gamut, const std::vector<RGB>& targets, bool gamutMap) {
+    const size_t n = targets.size();
+    MappedTargets t;
+    t.given = targets;
+    for (RGB& x : t.given)
+        for (float& v : x) v = std::clamp(v, 0.0f, 1.0f);
+    const std::vector<PrinterGamut::Match> mapping = matchesOf(gamut, t.given);
+    t.mapped.resize(n);
+    t.mixture.resize(n);
+    t.request.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        t.mapped[i] = gamutMap ? mapping[i].reflectance : t.given[i];
+        t.mixture[i] = mapping[i].mixture;
+        t.request[i] = mapping[i].colour;
+    }
+    return t;
+}
+
+// What the loop aims at, at the scales it looks at: over the eye's
+// footprint (or the update's own), and over three footprints (the error's
+// wide part, a tenth of the noise of the footprint's: what a whole face or
+// region lacks).
+struct LoopGoal {
+    LoopGoal(const std::vector<Point3f>& points_mm, const OptimizeSettings& settings)
+        : settings(settings), eye(points_mm, kEyeFootprint_mm), wide(points_mm, 3 * kEyeFootprint_mm, 0.25f) {
+        if (settings.updateFootprint_mm > 0 && settings.updateFootprint_mm != kEyeFootprint_mm)
+            ownUpdateFilter.emplace(points_mm, settings.updateFootprint_mm);
+    }
+    // Over the footprint the requests move by.
+    std::vector<RGB> updateFiltered(const std::vector<RGB>& v) const {
+        if (settings.updateFootprint_mm <= 0) return v;
+        return ownUpdateFilter ? ownUpdateFilter->apply(v) : eye.apply(v);
+    }
+    void aimAt(const std::vector<RGB>& mapped) {
+        mappedSeen = eye.apply(mapped);
+        goal = labsOf(updateFiltered(mapped));
+        goalWide = labsOf(wide.apply(mapped));
+    }
+    const OptimizeSettings& settings;
+    const SurfaceGaussian eye;
+    std::optional<SurfaceGaussian> ownUpdateFilter;
+    const CellSurfaceGaussian wide;
+    std::vector<RGB> mappedSeen;
+    std::vector<Lab> goal, goalWide;
+};
+
+// One prediction as the loop sees it: as reflectance, over the footprint
+// and over three, and the variance per CIELAB component of its noise at
+// both scales, over the object (one draw of it per voxel).
+struct SeenPrediction {
+    std::vector<RGB> predicted, seen, seenMoved;  // seenMoved: seen, moved by one draw of the noise
+    std::vector<Lab> seenLab, nowWide;
+    double noiseVariance = 0, noiseVarianceWide = 0;
+};
+
+SeenPrediction seePrediction(const SurfacePrediction& p, const RGB& environment, bool noisy, const LoopGoal& goal) {
+    SeenPrediction s;
+    const size_t n = p.radiance.size();
+    s.predicted = reflectance(p.radiance, environment);
+    const std::vector<RGB> moved =
+        noisy ? movedByNoise(s.predicted, reflectance(p.standardError, environment), 1) : s.predicted;
+    std::vector<std::vector<RGB>> filtered = goal.eye.apply(std::vector<const std::vector<RGB>*>{&s.predicted, &moved});
+    s.seen = std::move(filtered[0]);
+    s.seenMoved = std::move(filtered[1]);
+    s.seenLab = labsOf(s.seen);
+    s.nowWide = labsOf(goal.wide.apply(s.predicted));
+    if (noisy) {
+        const std::vector<Lab> drawn = labsOf(s.seenMoved), drawnWide = labsOf(goal.wide.apply(moved));
+        for (size_t i = 0; i < n; ++i) {
+            const LabVector d = difference(drawn[i], s.seenLab[i]), w = difference(drawnWide[i], s.nowWide[i]);
+            s.noiseVariance += dot(d, d);
+            s.noiseVarianceWide += dot(w, w);
+        }
+        s.noiseVariance /= 3.0 * double(n);
+        s.noiseVarianceWide /= 3.0 * double(n);
+    }
+    return s;
+}
+
+// The iteration's scores: over the footprint, per voxel, the noise's share
+// and the wide score the best is chosen by.
+void scoreIteration(const SeenPrediction& s, const LoopGoal& goal, const std::vector<RGB>& mapped, bool noisy,
+                    OptimizeIteration& it) {
+    const size_t n = s.predicted.size();
+    const DeltaEStats overFootprint = deltaEStats(s.seen, goal.mappedSeen), raw = deltaEStats(s.predicted, mapped);
+    it.meanDeltaE = overFootprint.mean;
+    it.p95DeltaE = overFootprint.p95;
+    it.meanDeltaEPerVoxel = raw.mean;
+    it.p95DeltaEPerVoxel = raw.p95;
+    if (noisy) it.noiseDeltaE = deltaEStats(s.seenMoved, s.seen).mean;
+    double wideSum = 0;
+    for (size_t i = 0; i < n; ++i) wideSum += ciede2000(s.nowWide[i], goal.goalWide[i]);
+    it.meanDeltaEWide = wideSum / double(n);
+}
+
+// Each voxel's request and its mixture, moved by the error the eye sees
+// over the voxel's gain, then the nearest printable colour:
+//  - the secant per voxel: the request printed now and the one before, and
+//    the prediction of the one before, measure the gain;
+//  - Kesten's rule per voxel: the step shrinks each time the error turns
+//    back (the voxel overshot, or noise dominates its error), so the moves
+//    first follow the error and then average the predictions' noise.
+class RequestSteps {
+public:
+    explicit RequestSteps(size_t n)
+        : previousRequest_(n), previousSeen_(n), gain_(n, 1.0f), previousError_(n), reversals_(n, 0), outside_(n, 0) {}
+
+    void move(int iteration, const SeenPrediction& s, const std::vector<Lab>& now, const LoopGoal& goal,
+              const PrinterGamut& gamut, double step, std::vector<Lab>& request,
+              std::vector<MaterialFractions>& mixture) {
+        const size_t n = request.size();
+        // The requests' wide part, for the secant (a voxel's own request
+        // also moves by its share of the noisy detail, which the wide
+        // prediction does not follow).
+        std::vector<RGB> requestValues(n);
+        for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
+        const std::vector<RGB> requestWide = goal.wide.apply(requestValues);
+        tbb::parallel_for(size_t(0), n, [&](size_t i) {
+            const Lab r{requestWide[i][0], requestWide[i][1], requestWide[i][2]};
+            if (iteration >= 2) {
+                const LabVector dR = difference(r, previousRequest_[i]), dP = difference(s.nowWide[i], previousSeen_[i]);
+                // Only moves well above the prediction's noise measure a
+                // gain (the wide prediction's: the request's move is
+                // mostly the wide error's).
+                if (dot(dR, dR) > 4.0)
+                    gain_[i] = float(std::clamp(0.5 * gain_[i] + 0.5 * (dot(dP, dR) / dot(dR, dR)), 0.5, 2.5));
+            }
+            previousRequest_[i] = r;
+            previousSeen_[i] = s.nowWide[i];
+            // The error: its wide part, plus the footprint's detail shrunk
+            // by James-Stein's positive-part rule against the predictions'
+            // noise (detail the size of the noise barely moves).
+            const LabVector errWide = difference(goal.goalWide[i], s.nowWide[i]), errEye = difference(goal.goal[i], now[i]);
+            const LabVector detail{errEye[0] - errWide[0], errEye[1] - errWide[1], errEye[2] - errWide[2]};
+            const double detailSq = dot(detail, detail);
+            const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - s.noiseVariance / detailSq) : 0.0;
+            // Kesten's rule on the wide part, counting only turns between
+            // errors above its noise.
+            const LabVector before{previousError_[i][0], previousError_[i][1], previousError_[i][2]};
+            if (iteration >= 2 && dot(errWide, errWide) > 3 * s.noiseVarianceWide &&
+                dot(before, before) > 3 * s.noiseVarianceWide && dot(errWide, before) < 0)
+                ++reversals_[i];
+            previousError_[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
+            const double a = step / (gain_[i] * (1 + reversals_[i]));
+            const Lab wanted{float(request[i].L + a * (errWide[0] + shrink * detail[0])),
+                             float(request[i].a + a * (errWide[1] + shrink * detail[1])),
+                             float(request[i].b + a * (errWide[2] + shrink * detail[2]))};
+            // A few steps from the last mixture: the request moved little,
+            // and the next iteration goes on from here (outside the gamut
+            // the full descent costs ~100 us a voxel).
+            const PrinterGamut::Match m = gamut.closest(wanted, mixture[i], 12);
+            mixture[i] = m.mixture;
+            request[i] = m.colour;
+            outside_[i] = m.deltaEab > 1.0;
+        });
+    }
+    // This iteration's requests that lay outside the gamut.
+    double outsideShare() const {
+        return double(std::count(outside_.begin(), outside_.end(), uint8_t(1))) / double(outside_.size());
+    }
+    // A new noise level starts a new averaging: Kesten's counts restart.
+    void restartAveraging() { std::fill(reversals_.begin(), reversals_.end(), uint16_t(0)); }
+
+private:
+    std::vector<Lab> previousRequest_, previousSeen_;  // the wide request before, its wide prediction
+    std::vector<float> gain_;
+    std::vector<std::array<float, 3>> previousError_;
+    std::vector<uint16_t> reversals_;
+    std::vector<uint8_t> outside_;
+};
+
+// The labels of the best iteration: the labels as given (the loop changes
+// the shell alone), or the best mixtures' halftone.
+void restoreBestLabels(Predictor& predictor, const LabelGrid& given, const VoxelIntGrid& owner, int bestIteration,
+                       const std::vector<MaterialFractions>& bestMixture) {
+    std::vector<LabelGrid::Change> changes;
+    if (bestIteration == 0) {
+        const LabelReader now(predictor.labels()), before(given);
+        owner.forEachSet([&](const Vec3i& v, int32_t) {
+            if (now.at(v) != before.at(v)) changes.push_back({v, before.at(v)});
+        });
+    } else {
+        changes = halftoneShell(predictor.labels(), owner, bestMixture);
+    }
+    predictor.changeLabels(changes);
+}
+
+// What the loop does after an iteration: stop (and why), or go on, with
+// more samples, or switching from the fast predictor to Monte Carlo.
+struct NextStep {
+    std::string stop;  // "" to go on
+    bool moreSamples = false, switchToMonteCarlo = false;
+};
+
+// onFast: the iteration was the fast predictor's; raisedAt: the iteration
+// after which the samples last went up; seconds: the loop's time with one
+// more iteration like this one.
+NextStep nextStep(const OptimizeSettings& settings, const OptimizeResult& result, const OptimizeIteration& it,
+                  bool onFast, bool noisy, uint32_t spp, int raisedAt, double seconds) {
+    NextStep next;
+    const int iteration = it.iteration;
+    // Past the fast predictor's use: its score has stopped falling.
+    next.switchToMonteCarlo =
+        onFast &&
+        ((iteration > 0 && result.iterations.back().meanDeltaE - it.meanDeltaE < settings.switchBelowDeltaE) ||
+         iteration + 1 == settings.maxIterations);
+    if (iteration >= settings.maxIterations) next.stop = "its iterations";
+    else if (settings.timeBudget_s > 0 && seconds > settings.timeBudget_s) next.stop = "its time budget";
+    if (next.stop.empty() && settings.patience > 0 && !onFast && iteration > 0 &&
+        iteration - std::max(result.bestIteration, raisedAt) >= settings.patience) {
+        // Stalled on the predictions' noise: first fewer of it, then stop.
+        if (noisy && spp < settings.mostSpp) next.moreSamples = true;
+        else next.stop = "its score stopped falling";
+    }
+    return next;
+}
+
+// The predictor's settings come back as they were, whatever happens.
+struct RestoreSettings {
+    Predictor& predictor;
+    RenderSettings saved;
+    ~RestoreSettings() { predictor.settings() = saved; }
+};
+
 }  // namespace
 
 OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamut, const std::vector<RGB>& targets,
@@ -192,13 +425,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const LabelGrid given = predictor.labels().withChanges({});
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
-
-    // The predictor's settings come back as they were, whatever happens.
-    struct RestoreSettings {
-        Predictor& predictor;
-        RenderSettings saved;
-        ~RestoreSettings() { predictor.settings() = saved; }
-    } restore{predictor, predictor.settings()};
+    RestoreSettings restore{predictor, predictor.settings()};
     // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =
@@ -209,114 +436,41 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const size_t n = p.voxels.size();
     if (targets.size() != n) throw std::invalid_argument("optimizeAppearance: one target per surface voxel is needed");
     const VoxelIntGrid owner = shellOwners(predictor.labels(), p.voxels, settings.shellDepth_mm);
-    const std::vector<Point3f> points_mm = predictor.surfacePoints_mm();
-    const SurfaceGaussian eye(points_mm, kEyeFootprint_mm);
-    std::optional<SurfaceGaussian> ownUpdateFilter;
-    if (settings.updateFootprint_mm > 0 && settings.updateFootprint_mm != kEyeFootprint_mm)
-        ownUpdateFilter.emplace(points_mm, settings.updateFootprint_mm);
-    auto updateFiltered = [&](const std::vector<RGB>& v) {
-        if (settings.updateFootprint_mm <= 0) return v;
-        return ownUpdateFilter ? ownUpdateFilter->apply(v) : eye.apply(v);
-    };
+    LoopGoal goal(predictor.surfacePoints_mm(), settings);
 
-    // The targets mapped into the gamut, and the mixtures that show them.
-    std::vector<RGB> given_targets = targets;
-    for (RGB& t : given_targets)
-        for (float& x : t) x = std::clamp(x, 0.0f, 1.0f);
-    const std::vector<PrinterGamut::Match> mapping = matchesOf(gamut, given_targets);
-    std::vector<RGB> mapped(n);
-    std::vector<MaterialFractions> mixture(n);
-    std::vector<Lab> request(n);
-    for (size_t i = 0; i < n; ++i) {
-        mapped[i] = settings.gamutMap ? mapping[i].reflectance : given_targets[i];
-        mixture[i] = mapping[i].mixture;
-        request[i] = mapping[i].colour;
-    }
-    result.mappingLoss = surfaceColourError(eye, mapped, given_targets);
-    result.targetSeen = eye.apply(given_targets);
-    result.mappedSeen = eye.apply(mapped);
-    const std::vector<Lab> goal = labsOf(updateFiltered(mapped));
-    // The error's wide part (three eye footprints), a tenth of the noise
-    // of the footprint's: what a whole face or region lacks.
-    const CellSurfaceGaussian wide(points_mm, 3 * kEyeFootprint_mm, 0.25f);
-    const std::vector<Lab> goalWide = labsOf(wide.apply(mapped));
+    MappedTargets t = mapTargets(gamut, targets, settings.gamutMap);
+    result.mappingLoss = surfaceColourError(goal.eye, t.mapped, t.given);
+    result.targetSeen = goal.eye.apply(t.given);
+    goal.aimAt(t.mapped);
+    result.mappedSeen = goal.mappedSeen;
 
-    // The secant per voxel: the request printed now and the one before, and
-    // the prediction of the one before; the gain it measured.
-    std::vector<Lab> previousRequest(n), previousSeen(n);  // the wide request before, its wide prediction
-    std::vector<float> gain(n, 1.0f);
-    std::vector<MaterialFractions> bestMixture = mixture;
+    RequestSteps steps(n);
+    std::vector<MaterialFractions> bestMixture = t.mixture;
     double bestScore = 0;
-    // Kesten's rule per voxel: the step shrinks each time the error turns
-    // back (the voxel overshot, or noise dominates its error), so the moves
-    // first follow the error and then average the predictions' noise.
-    std::vector<std::array<float, 3>> previousError(n);
-    std::vector<uint16_t> reversals(n, 0);
-    std::vector<uint8_t> outside(n, 0);  // this iteration's request lay outside the gamut
-    int raisedAt = 0;                    // the iteration after which the samples last went up
+    int raisedAt = 0;  // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
-        const std::vector<RGB> predicted = reflectance(p.radiance, environment);
-        // Over the footprint: the prediction, and the same moved by one draw
-        // of its noise (what the noise adds to the score).
         const bool noisy = !capabilitiesOf(predictor.settings()).deterministic;
-        const std::vector<RGB> moved =
-            noisy ? movedByNoise(predicted, reflectance(p.standardError, environment), 1) : predicted;
-        std::vector<std::vector<RGB>> filtered = eye.apply(std::vector<const std::vector<RGB>*>{&predicted, &moved});
-        const std::vector<RGB> seen = std::move(filtered[0]);
-        const std::vector<Lab> seenLab = labsOf(seen), nowWide = labsOf(wide.apply(predicted));
-        // The variance per CIELAB component of the noise of the errors, over
-        // the object: at the eye's footprint and at the wide scale (one draw
-        // of it per voxel).
-        double noiseVariance = 0, noiseVarianceWide = 0;
-        if (noisy) {
-            const std::vector<Lab> drawn = labsOf(filtered[1]), drawnWide = labsOf(wide.apply(moved));
-            for (size_t i = 0; i < n; ++i) {
-                const LabVector d = difference(drawn[i], seenLab[i]), w = difference(drawnWide[i], nowWide[i]);
-                noiseVariance += dot(d, d);
-                noiseVarianceWide += dot(w, w);
-            }
-            noiseVariance /= 3.0 * double(n);
-            noiseVarianceWide /= 3.0 * double(n);
-        }
+        const SeenPrediction seen = seePrediction(p, environment, noisy, goal);
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
         it.spp = predictor.settings().spp;
-        const DeltaEStats overFootprint = deltaEStats(seen, result.mappedSeen), raw = deltaEStats(predicted, mapped);
-        it.meanDeltaE = overFootprint.mean;
-        it.p95DeltaE = overFootprint.p95;
-        it.meanDeltaEPerVoxel = raw.mean;
-        it.p95DeltaEPerVoxel = raw.p95;
-        if (noisy) it.noiseDeltaE = deltaEStats(filtered[1], seen).mean;
-        double wideSum = 0;
-        for (size_t i = 0; i < n; ++i) wideSum += ciede2000(nowWide[i], goalWide[i]);
-        it.meanDeltaEWide = wideSum / double(n);
+        scoreIteration(seen, goal, t.mapped, noisy, it);
         // A new best only if it beats the last by a margin, on the wide
         // score: at the footprint the predictions' noise dominates the score
         // and hides what the loop still changes.
         if (iteration == 0 || it.meanDeltaEWide < bestScore - std::max(0.02 * bestScore, 0.02)) {
             bestScore = it.meanDeltaEWide;
             result.bestIteration = iteration;
-            bestMixture = mixture;
-            result.predictedSeen = seen;
+            bestMixture = t.mixture;
+            result.predictedSeen = seen.seen;
         }
-        // Past the fast predictor's use: its score has stopped falling.
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
-        const bool switchNow = onFast && ((iteration > 0 && result.iterations.back().meanDeltaE - it.meanDeltaE <
-                                                                settings.switchBelowDeltaE) ||
-                                          iteration + 1 == settings.maxIterations);
         const double elapsed = std::chrono::duration<double>(Clock::now() - loopStart).count();
         const double lastSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
-        std::string stop;
-        if (iteration >= settings.maxIterations) stop = "its iterations";
-        else if (settings.timeBudget_s > 0 && elapsed + lastSeconds > settings.timeBudget_s) stop = "its time budget";
-        bool moreSamples = false;
-        if (stop.empty() && settings.patience > 0 && !onFast && iteration > 0 &&
-            iteration - std::max(result.bestIteration, raisedAt) >= settings.patience) {
-            // Stalled on the predictions' noise: first fewer of it, then stop.
-            if (noisy && predictor.settings().spp < settings.mostSpp) moreSamples = true;
-            else stop = "its score stopped falling";
-        }
+        const NextStep next = nextStep(settings, result, it, onFast, noisy, predictor.settings().spp, raisedAt,
+                                       elapsed + lastSeconds);
+        const std::string& stop = next.stop;
         if (!stop.empty()) {
             result.stoppedBecause = stop;
             it.seconds = lastSeconds;
@@ -324,59 +478,15 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             if (onIteration) onIteration(it);
             break;
         }
-        // Move the requests (the mapped targets' own mixtures are printed
-        // first): the error the eye sees, over each voxel's gain; then the
-        // nearest printable colour and its mixture.
+        // Move the requests (the mapped targets' own mixtures are printed first).
         if (iteration > 0) {
-            const std::vector<Lab> now =
-                settings.updateFootprint_mm == kEyeFootprint_mm ? seenLab : labsOf(updateFiltered(predicted));
-            // The requests' wide part, for the secant (a voxel's own request
-            // also moves by its share of the noisy detail, which the wide
-            // prediction does not follow).
-            std::vector<RGB> requestValues(n);
-            for (size_t i = 0; i < n; ++i) requestValues[i] = {request[i].L, request[i].a, request[i].b};
-            const std::vector<RGB> requestWide = wide.apply(requestValues);
-            tbb::parallel_for(size_t(0), n, [&](size_t i) {
-                const Lab r{requestWide[i][0], requestWide[i][1], requestWide[i][2]};
-                if (iteration >= 2) {
-                    const LabVector dR = difference(r, previousRequest[i]), dP = difference(nowWide[i], previousSeen[i]);
-                    // Only moves well above the prediction's noise measure a
-                    // gain (the wide prediction's: the request's move is
-                    // mostly the wide error's).
-                    if (dot(dR, dR) > 4.0)
-                        gain[i] = float(std::clamp(0.5 * gain[i] + 0.5 * (dot(dP, dR) / dot(dR, dR)), 0.5, 2.5));
-                }
-                previousRequest[i] = r;
-                previousSeen[i] = nowWide[i];
-                // The error: its wide part, plus the footprint's detail shrunk
-                // by James-Stein's positive-part rule against the predictions'
-                // noise (detail the size of the noise barely moves).
-                const LabVector errWide = difference(goalWide[i], nowWide[i]), errEye = difference(goal[i], now[i]);
-                const LabVector detail{errEye[0] - errWide[0], errEye[1] - errWide[1], errEye[2] - errWide[2]};
-                const double detailSq = dot(detail, detail);
-                const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - noiseVariance / detailSq) : 0.0;
-                // Kesten's rule on the wide part, counting only turns between
-                // errors above its noise.
-                const LabVector before{previousError[i][0], previousError[i][1], previousError[i][2]};
-                if (iteration >= 2 && dot(errWide, errWide) > 3 * noiseVarianceWide &&
-                    dot(before, before) > 3 * noiseVarianceWide && dot(errWide, before) < 0)
-                    ++reversals[i];
-                previousError[i] = {float(errWide[0]), float(errWide[1]), float(errWide[2])};
-                const double a = settings.step / (gain[i] * (1 + reversals[i]));
-                const Lab wanted{float(request[i].L + a * (errWide[0] + shrink * detail[0])),
-                                 float(request[i].a + a * (errWide[1] + shrink * detail[1])),
-                                 float(request[i].b + a * (errWide[2] + shrink * detail[2]))};
-                // A few steps from the last mixture: the request moved little,
-                // and the next iteration goes on from here (outside the gamut
-                // the full descent costs ~100 us a voxel).
-                const PrinterGamut::Match m = gamut.closest(wanted, mixture[i], 12);
-                mixture[i] = m.mixture;
-                request[i] = m.colour;
-                outside[i] = m.deltaEab > 1.0;
-            });
-            it.outsideShare = double(std::count(outside.begin(), outside.end(), uint8_t(1))) / double(n);
+            const std::vector<Lab> now = settings.updateFootprint_mm == kEyeFootprint_mm
+                                             ? seen.seenLab
+                                             : labsOf(goal.updateFiltered(seen.predicted));
+            steps.move(iteration, seen, now, goal, gamut, settings.step, t.request, t.mixture);
+            it.outsideShare = steps.outsideShare();
         }
-        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, mixture);
+        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, t.mixture);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -385,12 +495,11 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         t0 = Clock::now();
         // A new seed each iteration: the loop must not fit one noise realisation.
         predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
-        if (switchNow) predictor.settings().integrator = monteCarlo;
-        if (moreSamples) {
-            // A new noise level starts a new averaging: Kesten's counts restart.
+        if (next.switchToMonteCarlo) predictor.settings().integrator = monteCarlo;
+        if (next.moreSamples) {
             predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);
             raisedAt = iteration;
-            std::fill(reversals.begin(), reversals.end(), uint16_t(0));
+            steps.restartAveraging();
         }
         p = predictor.predict();
     }
@@ -398,23 +507,11 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     for (size_t i = 0; i < n; ++i)
         result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
                                                labFromLinearSrgb(result.mappedSeen[i])));
-    // End on the best labels: the labels as given, or the best mixtures' halftone.
-    if (result.bestIteration != result.iterations.back().iteration) {
-        std::vector<LabelGrid::Change> changes;
-        if (result.bestIteration == 0) {
-            // The loop changes the shell alone.
-            const LabelReader now(predictor.labels()), before(given);
-            owner.forEachSet([&](const Vec3i& v, int32_t) {
-                if (now.at(v) != before.at(v)) changes.push_back({v, before.at(v)});
-            });
-        } else {
-            changes = halftoneShell(predictor.labels(), owner, bestMixture);
-        }
-        predictor.changeLabels(changes);
-    }
+    if (result.bestIteration != result.iterations.back().iteration)
+        restoreBestLabels(predictor, given, owner, result.bestIteration, bestMixture);
     if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        result.judgement = judgePrint(predictor, settings, judge, eye, mapped, environment);
+        result.judgement = judgePrint(predictor, settings, judge, goal.eye, t.mapped, environment);
     }
     return result;
 }

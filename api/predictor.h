@@ -67,6 +67,7 @@ public:
     void setAcrossRanks(bool on) { acrossRanks_ = on; }
 
     RenderSettings& settings() { return settings_; }
+    const RenderSettings& settings() const { return settings_; }
     AdaptiveSampling& adaptive() { return adaptive_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;

@@ -71,6 +71,177 @@ std::vector<RGB> loadTargets(const std::string& target, const MeshPlacement& pla
     return targets;
 }
 
+// The loop's own options (api/appearance_optimizer.h).
+OptimizeSettings loopSettingsOf(const Arguments& args) {
+    OptimizeSettings os;
+    os.maxIterations = int(args.integer("--iterations", 0, 10000).value_or(os.maxIterations));
+    if (auto t = args.number("--time")) {
+        if (!(*t > 0)) throw UsageError("--time must be positive (seconds)");
+        os.timeBudget_s = *t;
+    }
+    os.gamutMap = !args.has("--no-gamut-map");
+    if (auto s = args.number("--step")) {
+        if (!(*s > 0 && *s <= 2)) throw UsageError("--step must be in (0, 2]");
+        os.step = float(*s);
+    }
+    if (auto s = args.number("--shell-mm")) {
+        if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
+        os.shellDepth_mm = float(*s);
+    }
+    if (auto s = args.number("--update-footprint-mm")) {
+        if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
+        os.updateFootprint_mm = float(*s);
+    }
+    const auto judgeSpp = args.integer("--judge-spp", 0, RenderSettings::kMostSpp);
+    os.judge = judgeSpp.value_or(1) > 0;
+    os.judgeSpp = uint32_t(judgeSpp.value_or(0));
+    if (auto x = args.number("--judge-noise")) {
+        if (!(*x > 0)) throw UsageError("--judge-noise must be positive (CIEDE2000)");
+        if (judgeSpp) throw UsageError("optimize takes --judge-spp or --judge-noise, not both");
+        os.judgeNoiseDeltaE = *x;
+    }
+    os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
+    return os;
+}
+
+// Which estimators predict and judge: the predictor's settings into
+// `render`, the judge's returned. The judge renders with volpath, the
+// reference path tracer, whatever predicts or the scene file names
+// (lighttrace's footprint noise costs ~3x its samples' time on the greek
+// cube).
+RenderSettings choosePredictors(const Arguments& args, const std::string& predictorName, RenderSettings& render,
+                                OptimizeSettings& os) {
+    render.volpath.reentry = false;  // surface prediction
+    RenderSettings judge = render;
+    chooseIntegrator(judge, "volpath", "the judge");
+    os.judgeIntegrator = judge.integrator;
+    // By default the loop's measured best (docs/api.md): volpath at 2 spp,
+    // whatever the scene file renders with.
+    if (!args.has("--integrator") && predictorName.empty()) {
+        chooseIntegrator(render, "volpath", "optimize");
+        render.spp = 2;
+    }
+    applyRenderOptions(args, render);
+    os.mostSpp = uint32_t(args.integer("--most-spp", 1, RenderSettings::kMostSpp).value_or(os.mostSpp));
+    os.mostSpp = std::max(os.mostSpp, render.spp);
+    render.channels = {0, 1, 2};
+    if (predictorName == "auto") {
+        os.fastPredictor = "diffusion";
+        RenderSettings fast = render;
+        chooseIntegrator(fast, os.fastPredictor, "--predictor auto");
+    } else if (!predictorName.empty()) {
+        chooseIntegrator(render, predictorName, "--predictor");
+    }
+    return judge;
+}
+
+// The mapping loss, the loop's own score and the judge's, on stdout.
+void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
+    const auto& its = result.iterations;
+    const OptimizeIteration& best = its[size_t(result.bestIteration)];
+    const SurfaceColourError& loss = result.mappingLoss;
+    std::printf("mapping loss (the target as given -> the nearest printable colours): mean CIEDE2000 %.3f, 95th "
+                "percentile %.3f over the eye's %g mm footprint%s\n",
+                loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm, os.gamutMap ? "" : " (not applied: --no-gamut-map)");
+    double loopSeconds = 0;
+    for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
+    std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "
+                "95th percentile %.3f -> %.3f; over three footprints %.3f -> %.3f; stopped at %s; %.1f s\n",
+                its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
+                its.front().p95DeltaE, best.p95DeltaE, its.front().meanDeltaEWide, best.meanDeltaEWide,
+                result.stoppedBecause.c_str(), loopSeconds);
+    if (result.bestIteration >= 2)
+        std::printf("the best labels' requests: %.1f %% of the surface voxels asked for colours the printer cannot show "
+                    "(more than 1 Delta E*ab outside its gamut): there the error is the printer's limit (its blur, "
+                    "its edges), not the loop's\n",
+                    100.0 * its[size_t(result.bestIteration - 1)].outsideShare);
+    if (its.front().predictor != its.back().predictor)
+        std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
+                    "like with like)\n",
+                    its.front().predictor.c_str(), its.back().predictor.c_str());
+    if (const auto& j = result.judgement) {
+        std::printf("judged apart (%s, %u spp in %d round%s, seed %llu, %.1f s): loop error (mapped target -> print) "
+                    "over the eye's %g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
+                    j->integrator.c_str(), j->spp, j->rounds, j->rounds > 1 ? "s" : "", (unsigned long long)j->seed,
+                    j->seconds, kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered, j->meanDeltaE,
+                    j->p95DeltaE);
+        std::printf("the judge's own noise (its two halves' disagreement): %.2f CIEDE2000 over the footprint (%.2f per "
+                    "voxel); with it taken out, the loop error's root mean square over the footprint is %.3f\n",
+                    j->noiseDeltaEFiltered, j->noiseDeltaE, j->rmsDeltaEFilteredNoiseRemoved);
+    }
+}
+
+// What optimize writes under its prefix.
+struct OptimizeOutputs {
+    explicit OptimizeOutputs(const std::filesystem::path& prefix) : prefix(prefix) {}
+    std::filesystem::path named(const char* suffix) const { return prefix.string() + suffix; }
+    std::vector<std::filesystem::path> files() const {
+        return {csv, labels, targetGlb, mappedGlb, predictionGlb, errorGlb, report};
+    }
+    // The history, the best labels, the best iteration on the model as the
+    // eye sees it (over its footprint: the target as given and as mapped,
+    // the prediction and CIEDE2000) and the page that shows them with the
+    // history.
+    void write(const OptimizeResult& result, const std::string& history, const Predictor& predictor,
+               const SceneDescription& desc) const;
+    const std::filesystem::path prefix;
+    const std::filesystem::path csv = named(".csv"), labels = named("_labels.vdb"), targetGlb = named("_target.glb"),
+                                mappedGlb = named("_mapped.glb"), predictionGlb = named("_prediction.glb"),
+                                errorGlb = named("_error.glb"), report = named(".html");
+};
+
+void OptimizeOutputs::write(const OptimizeResult& result, const std::string& history, const Predictor& predictor,
+                            const SceneDescription& desc) const {
+    if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
+    writeTextFile(csv, history);
+    LabelGrid final = predictor.labels().withChanges({});
+    final.placeCornerAt(predictor.worldFrame().cornerMin_mm);
+    writeLabelGridVdb(final, labels);
+
+    const TriangleMesh mesh = loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair);
+    const GridFrame frame = predictor.worldFrame();
+    const std::vector<Vec3i> voxels = predictor.surfaceVoxels();
+    writePredictionGlb(mesh, frame, voxels, result.targetSeen, targetGlb);
+    writePredictionGlb(mesh, frame, voxels, result.mappedSeen, mappedGlb);
+    // The judge's colours when there is one: its noise is far below the
+    // loop's.
+    const auto& judgement = result.judgement;
+    writePredictionGlb(mesh, frame, voxels, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
+    const std::vector<float>& deltaESeen = judgement ? judgement->deltaESeen : result.deltaESeen;
+    std::vector<RGB> errorColors(deltaESeen.size());
+    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
+    writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
+    const auto& its = result.iterations;
+    const OptimizeIteration& best = its[size_t(result.bestIteration)];
+    const SurfaceColourError& loss = result.mappingLoss;
+    HtmlReport page;
+    page.title = "printlight optimize: " + desc.sceneFile.filename().string();
+    char summary[400];
+    std::snprintf(summary, sizeof summary,
+                  "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
+                  "(mapped target -> prediction, iteration %d; %s, %u spp).",
+                  kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
+                  predictor.settings().integrator.c_str(), predictor.settings().spp);
+    std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
+    if (judgement) {
+        char text[240];
+        std::snprintf(text, sizeof text,
+                      " Judged apart (%s, %u spp): loop error %.2f, its noise %.2f (%.2f root mean square with the noise "
+                      "taken out); the prediction and error views are the judge's.",
+                      judgement->integrator.c_str(), judgement->spp, judgement->meanDeltaEFiltered,
+                      judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
+        judged = text;
+    }
+    page.summary = summary + judged + " Error map: blue 0, green 2.5, yellow 5, red 10 or more.";
+    page.models = {{"target", targetGlb}, {"target mapped", mappedGlb}, {"prediction", predictionGlb},
+                     {"CIEDE2000", errorGlb}};
+    for (const OptimizeIteration& it : its) page.history.push_back({double(it.iteration), it.meanDeltaE});
+    page.historyLabel = "mean CIEDE2000 over the footprint";
+    writeHtmlReport(page, report);
+    std::printf("wrote %s, %s, %s_{target,mapped,prediction,error}.glb and %s\n", csv.string().c_str(),
+                labels.string().c_str(), prefix.string().c_str(), report.string().c_str());
+}
+
 }  // namespace
 
 int optimizeCommand(const std::vector<std::string>& argv) {
@@ -105,34 +276,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (args.positional().size() != 1) throw UsageError("optimize needs exactly one SCENE.json");
     auto target = args.value("--target");
     if (!target) throw UsageError("optimize needs --target MODEL.gltf|.glb|.obj or --target R,G,B (linear)");
-    OptimizeSettings os;
-    os.maxIterations = int(args.integer("--iterations", 0, 10000).value_or(os.maxIterations));
-    if (auto t = args.number("--time")) {
-        if (!(*t > 0)) throw UsageError("--time must be positive (seconds)");
-        os.timeBudget_s = *t;
-    }
-    os.gamutMap = !args.has("--no-gamut-map");
-    if (auto s = args.number("--step")) {
-        if (!(*s > 0 && *s <= 2)) throw UsageError("--step must be in (0, 2]");
-        os.step = float(*s);
-    }
-    if (auto s = args.number("--shell-mm")) {
-        if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
-        os.shellDepth_mm = float(*s);
-    }
-    if (auto s = args.number("--update-footprint-mm")) {
-        if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
-        os.updateFootprint_mm = float(*s);
-    }
-    const auto judgeSpp = args.integer("--judge-spp", 0, RenderSettings::kMostSpp);
-    os.judge = judgeSpp.value_or(1) > 0;
-    os.judgeSpp = uint32_t(judgeSpp.value_or(0));
-    if (auto x = args.number("--judge-noise")) {
-        if (!(*x > 0)) throw UsageError("--judge-noise must be positive (CIEDE2000)");
-        if (judgeSpp) throw UsageError("optimize takes --judge-spp or --judge-noise, not both");
-        os.judgeNoiseDeltaE = *x;
-    }
-    os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
+    OptimizeSettings os = loopSettingsOf(args);
     const std::string predictorName = args.value("--predictor").value_or("");
     if (!predictorName.empty() && args.has("--integrator"))
         throw UsageError("optimize takes --predictor or --integrator, not both");
@@ -140,45 +284,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
 
     auto t0 = std::chrono::steady_clock::now();
     SceneDescription desc = parseScene(args.positional()[0]);
-    std::filesystem::path prefix = args.value("-o").value_or("out/" + desc.sceneFile.stem().string() + "_optimize");
-    const std::filesystem::path csvFile = prefix.string() + ".csv", labelsFile = prefix.string() + "_labels.vdb";
-    const std::filesystem::path targetGlb = prefix.string() + "_target.glb",
-                                mappedGlb = prefix.string() + "_mapped.glb",
-                                predictionGlb = prefix.string() + "_prediction.glb",
-                                errorGlb = prefix.string() + "_error.glb", reportFile = prefix.string() + ".html";
+    const OptimizeOutputs out(args.value("-o").value_or("out/" + desc.sceneFile.stem().string() + "_optimize"));
     std::vector<std::filesystem::path> inputs = desc.inputFiles();
     if (std::filesystem::exists(*target)) inputs.push_back(*target);
     else parseTargetColour(*target);  // a bad colour is refused before anything loads
     if (auto file = args.value("--gamut"); file && !std::filesystem::exists(*file))
         throw InputError(*file, "no such file (the printer's characterisation, --gamut)");
-    for (const auto& out : {csvFile, labelsFile, targetGlb, mappedGlb, predictionGlb, errorGlb, reportFile})
-        refuseToOverwriteInputs(out, inputs);
+    for (const auto& file : out.files()) refuseToOverwriteInputs(file, inputs);
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
-    desc.render.volpath.reentry = false;  // surface prediction
-    // The judge renders with volpath, the reference path tracer, whatever
-    // predicts or the scene file names (lighttrace's footprint noise costs
-    // ~3x its samples' time on the greek cube).
-    RenderSettings judge = desc.render;
-    chooseIntegrator(judge, "volpath", "the judge");
-    os.judgeIntegrator = judge.integrator;
-    // By default the loop's measured best (docs/api.md): volpath at 2 spp,
-    // whatever the scene file renders with.
-    if (!args.has("--integrator") && predictorName.empty()) {
-        chooseIntegrator(desc.render, "volpath", "optimize");
-        desc.render.spp = 2;
-    }
-    applyRenderOptions(args, desc.render);
-    os.mostSpp = uint32_t(args.integer("--most-spp", 1, RenderSettings::kMostSpp).value_or(os.mostSpp));
-    os.mostSpp = std::max(os.mostSpp, desc.render.spp);
-    desc.render.channels = {0, 1, 2};
-    if (predictorName == "auto") {
-        os.fastPredictor = "diffusion";
-        RenderSettings fast = desc.render;
-        chooseIntegrator(fast, os.fastPredictor, "--predictor auto");
-    } else if (!predictorName.empty()) {
-        chooseIntegrator(desc.render, predictorName, "--predictor");
-    }
+    const RenderSettings judge = choosePredictors(args, predictorName, desc.render, os);
     std::unique_ptr<Predictor> loaded;  // on every rank, or none (rank 0 says why)
     runOnEveryRank([&] { loaded = std::make_unique<Predictor>(desc, desc.render, sceneNeedsOf(judge)); });
     Predictor& predictor = *loaded;
@@ -220,85 +335,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
         csv << line;
     });
     if (!speaks) return 0;
-    const auto& its = result.iterations;
-    const OptimizeIteration& best = its[size_t(result.bestIteration)];
-    const SurfaceColourError& loss = result.mappingLoss;
-    std::printf("mapping loss (the target as given -> the nearest printable colours): mean CIEDE2000 %.3f, 95th "
-                "percentile %.3f over the eye's %g mm footprint%s\n",
-                loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm, os.gamutMap ? "" : " (not applied: --no-gamut-map)");
-    double loopSeconds = 0;
-    for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
-    std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "
-                "95th percentile %.3f -> %.3f; over three footprints %.3f -> %.3f; stopped at %s; %.1f s\n",
-                its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
-                its.front().p95DeltaE, best.p95DeltaE, its.front().meanDeltaEWide, best.meanDeltaEWide,
-                result.stoppedBecause.c_str(), loopSeconds);
-    if (result.bestIteration >= 2)
-        std::printf("the best labels' requests: %.1f %% of the surface voxels asked for colours the printer cannot show "
-                    "(more than 1 Delta E*ab outside its gamut): there the error is the printer's limit (its blur, "
-                    "its edges), not the loop's\n",
-                    100.0 * its[size_t(result.bestIteration - 1)].outsideShare);
-    if (its.front().predictor != its.back().predictor)
-        std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
-                    "like with like)\n",
-                    its.front().predictor.c_str(), its.back().predictor.c_str());
-    if (const auto& j = result.judgement) {
-        std::printf("judged apart (%s, %u spp in %d round%s, seed %llu, %.1f s): loop error (mapped target -> print) "
-                    "over the eye's %g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
-                    j->integrator.c_str(), j->spp, j->rounds, j->rounds > 1 ? "s" : "", (unsigned long long)j->seed,
-                    j->seconds, kEyeFootprint_mm, j->meanDeltaEFiltered, j->p95DeltaEFiltered, j->meanDeltaE,
-                    j->p95DeltaE);
-        std::printf("the judge's own noise (its two halves' disagreement): %.2f CIEDE2000 over the footprint (%.2f per "
-                    "voxel); with it taken out, the loop error's root mean square over the footprint is %.3f\n",
-                    j->noiseDeltaEFiltered, j->noiseDeltaE, j->rmsDeltaEFilteredNoiseRemoved);
-    }
-    if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
-    writeTextFile(csvFile, csv.str());
-    LabelGrid final = predictor.labels().withChanges({});
-    final.placeCornerAt(predictor.worldFrame().cornerMin_mm);
-    writeLabelGridVdb(final, labelsFile);
-
-    // The best iteration on the model as the eye sees it (over its
-    // footprint): the target as given and as mapped, the prediction and
-    // CIEDE2000; the page that shows them with the history.
-    const TriangleMesh mesh = loadMesh(desc.meshFile, desc.meshPlacement, desc.meshRepair);
-    const GridFrame frame = predictor.worldFrame();
-    writePredictionGlb(mesh, frame, voxels, result.targetSeen, targetGlb);
-    writePredictionGlb(mesh, frame, voxels, result.mappedSeen, mappedGlb);
-    // The judge's colours when there is one: its noise is far below the
-    // loop's.
-    const auto& judgement = result.judgement;
-    writePredictionGlb(mesh, frame, voxels, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
-    const std::vector<float>& deltaESeen = judgement ? judgement->deltaESeen : result.deltaESeen;
-    std::vector<RGB> errorColors(deltaESeen.size());
-    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
-    writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
-    HtmlReport report;
-    report.title = "printlight optimize: " + desc.sceneFile.filename().string();
-    char summary[400];
-    std::snprintf(summary, sizeof summary,
-                  "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
-                  "(mapped target -> prediction, iteration %d; %s, %u spp).",
-                  kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
-                  predictor.settings().integrator.c_str(), predictor.settings().spp);
-    std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
-    if (judgement) {
-        char text[240];
-        std::snprintf(text, sizeof text,
-                      " Judged apart (%s, %u spp): loop error %.2f, its noise %.2f (%.2f root mean square with the noise "
-                      "taken out); the prediction and error views are the judge's.",
-                      judgement->integrator.c_str(), judgement->spp, judgement->meanDeltaEFiltered,
-                      judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
-        judged = text;
-    }
-    report.summary = summary + judged + " Error map: blue 0, green 2.5, yellow 5, red 10 or more.";
-    report.models = {{"target", targetGlb}, {"target mapped", mappedGlb}, {"prediction", predictionGlb},
-                     {"CIEDE2000", errorGlb}};
-    for (const OptimizeIteration& it : its) report.history.push_back({double(it.iteration), it.meanDeltaE});
-    report.historyLabel = "mean CIEDE2000 over the footprint";
-    writeHtmlReport(report, reportFile);
-    std::printf("wrote %s, %s, %s_{target,mapped,prediction,error}.glb and %s\n", csvFile.string().c_str(),
-                labelsFile.string().c_str(), prefix.string().c_str(), reportFile.string().c_str());
+    printOutcome(result, os);
+    out.write(result, csv.str(), predictor, desc);
     return 0;
 }
 
