@@ -389,6 +389,277 @@ std::string svgPlot(const std::vector<Row>& rows, const std::string& title) {
     return s.str();
 }
 
+// The configurations --configs names, and what the scene must load for them.
+struct ChosenConfigurations {
+    std::vector<std::string> names;
+    std::map<std::string, RenderSettings> settings;
+    SceneNeeds needs;
+};
+
+ChosenConfigurations chooseConfigurations(const Arguments& args, const RenderSettings& base) {
+    auto all = configurations(base);
+    ChosenConfigurations chosen;
+    chosen.names = splitList(args.value("--configs").value_or("volpath,printpt"));
+    for (const std::string& n : chosen.names) {
+        auto s = parseConfiguration(n, all);
+        if (!s) {
+            std::string known;
+            for (const auto& [k, v] : all) known += " " + k;
+            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
+        }
+        chosen.settings[n] = *s;
+        chosen.needs |= sceneNeedsOf(*s);
+    }
+    return chosen;
+}
+
+// --make-reference: many samples of the trusted estimator, with their own
+// RMS standard error.
+void makeReference(const Scene& scene, const Sensor& sensor, RenderSettings s, const std::string& file,
+                   const Arguments& args, const SceneDescription& desc, bool acrossRanks, bool speaks) {
+    s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
+    s.seed = 0x5eed;
+    s.showProgress = speaks && ProgressBar::stderrIsTerminal();
+    refuseToOverwriteInputs(file, desc.inputFiles());
+    RenderResult r = render(scene, sensor, s, acrossRanks);
+    if (!speaks) return;
+    RadianceImage im = filmToImage(r.film, sensor);
+    im.metadata = {{"reference_spp", std::to_string(s.spp)}, {"integrator", s.integrator}};
+    writeExr(im, file);
+    double var = 0;
+    size_t n = 0;
+    for (size_t p = 0; p < r.film.pixelCount(); ++p)
+        for (int c = 0; c < 3; ++c, ++n) var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+    std::printf("reference %s: %s, %u spp, %.1f s; its own RMS standard error per pixel %.3g\n", file.c_str(),
+                s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
+}
+
+// --error-check: whether the reported errors are honest at these spp.
+void checkErrors(const Scene& scene, const Sensor& sensor, const ChosenConfigurations& chosen,
+                 const std::string& spps, const Arguments& args, bool acrossRanks, bool speaks) {
+    std::vector<uint32_t> counts;
+    for (const std::string& n : splitList(spps)) {
+        long v = 0;
+        try {
+            v = std::stol(n);
+        } catch (const std::exception&) {
+        }
+        if (v < 1 || v > long(RenderSettings::kMostSpp)) throw UsageError("--error-check takes sample counts, e.g. 1,2,8");
+        counts.push_back(uint32_t(v));
+    }
+    std::vector<std::pair<std::string, RenderSettings>> configs;
+    for (const std::string& n : chosen.names) configs.emplace_back(n, chosen.settings.at(n));
+    const uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX - 1).value_or(11));
+    const std::string md = errorCheckTable(scene, sensor, configs, counts, seed, acrossRanks);
+    if (!speaks) return;
+    writeTextFile(args.value("--out").value_or("bench") + ".md", md);
+    std::fputs(md.c_str(), stdout);
+}
+
+// What the errors are measured against and at which budgets.
+struct Measurement {
+    std::optional<std::string> referenceFile;  // none: self-variance
+    RadianceImage reference;
+    double referenceVariance = 0;  // its mean squared standard error per pixel channel
+    std::vector<double> budgets;   // seconds
+    double target = 0.02;          // the whole-object median relative error (timeToTarget)
+    bool self() const { return !referenceFile; }
+};
+
+Measurement measurementOf(const Arguments& args, const Sensor& sensor) {
+    Measurement m;
+    m.referenceFile = args.value("--reference");
+    const bool self = args.has("--self-variance");
+    if (!m.referenceFile && !self)
+        throw UsageError("bench needs --reference REF.exr (make one with --make-reference) or --self-variance");
+    if (m.referenceFile && self) throw UsageError("bench takes --reference or --self-variance, not both");
+    if (m.referenceFile) {
+        m.reference = readExr(*m.referenceFile);
+        const RadianceImage& ref = m.reference;
+        if (ref.width != sensor.imageWidth() || ref.height != sensor.imageHeight())
+            throw InputError(*m.referenceFile, "reference image size does not match the scene's sensor");
+        size_t refN = 0;
+        for (size_t i = 0; i < ref.mean.size(); ++i)
+            if (ref.coverage[i] > 0)
+                for (int c = 0; c < 3; ++c, ++refN)
+                    m.referenceVariance += double(ref.standardError[i][c]) * ref.standardError[i][c];
+        m.referenceVariance /= double(std::max<size_t>(refN, 1));
+    }
+    for (const std::string& b : splitList(args.value("--budgets").value_or("1,2,4,8"))) {
+        try {
+            m.budgets.push_back(std::stod(b));
+        } catch (const std::exception&) {
+            throw UsageError("--budgets takes seconds, e.g. 1,2,4,8");
+        }
+        if (!(m.budgets.back() > 0)) throw UsageError("--budgets must be positive");
+    }
+    if (auto t = args.value("--target-relative-error")) {
+        try {
+            m.target = std::stod(*t);
+        } catch (const std::exception&) {
+            m.target = 0;
+        }
+        if (!(m.target > 0 && m.target < 1)) throw UsageError("--target-relative-error must be in (0, 1), e.g. 0.02");
+    }
+    return m;
+}
+
+// Every configuration at every budget: a row each (on rank 0), and with
+// self-variance each render's film, kept until all are done for the
+// relative MSE (one denominator for all renders); per configuration, its
+// per-voxel CIEDE2000 on the atlas (surface sensor, reference).
+struct Measured {
+    std::vector<Row> rows;
+    std::vector<Film> selfFilms;
+    std::vector<std::pair<std::string, RadianceImage>> errorMaps;
+};
+
+// The samples of one render for a budget, from the time one sample took.
+uint32_t samplesFor(const RenderSettings& s, double budget, double perSpp, const Arguments& args, bool self,
+                    uint32_t selfSpp, bool acrossRanks) {
+    uint32_t spp = capabilitiesOf(s).deterministic ? 1u : uint32_t(std::max(1.0, std::round(budget / perSpp)));
+    if (acrossRanks) spp = broadcastFromRankZero(spp);  // rank 0's clock decides
+    if (self && args.has("--spp")) spp = selfSpp;
+    if (self) spp = std::max(spp, selfSpp);
+    // Hero channels go round groups of three samples, whose means are the
+    // independent units of the variance: at least two groups.
+    if (self && rendersChannelsInOnePass(s) && s.channelSampling == ChannelSampling::Hero)
+        spp = std::max(6u, (spp + 2) / 3 * 3);
+    return spp;
+}
+
+Measured measure(const Scene& scene, const Sensor& sensor, const ChosenConfigurations& chosen, const Measurement& m,
+                 const Arguments& args, int cores, bool acrossRanks, bool speaks) {
+    // Self-variance: at least kMinSelfSpp samples, or exactly --spp (>= 2:
+    // the sample variance is unbiased from two samples on).
+    const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
+    const bool self = m.self();
+    Measured out;
+    for (const std::string& name : chosen.names) {
+        RenderSettings s = chosen.settings.at(name);
+        s.spp = 1;
+        s.seed = 1;
+        const bool fixedSpp = self && args.has("--spp");
+        double perSpp = fixedSpp ? 1.0 : render(scene, sensor, s, acrossRanks).seconds;  // calibration
+        for (double budget : m.budgets) {
+            if (fixedSpp && budget != m.budgets.front()) break;  // one render: the spp is fixed
+            s.spp = samplesFor(s, budget, perSpp, args, self, selfSpp, acrossRanks);
+            s.seed += 1;
+            RenderResult r = render(scene, sensor, s, acrossRanks);
+            if (!speaks) continue;
+            // (With several renders the relative MSE is redone below, over one denominator.)
+            auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
+            Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, sensor, m.reference);
+            const double medianRel = medianRelativeError(r.film, sensor, self ? nullptr : &m.reference);
+            std::optional<SurfaceColourError> colour;
+            RGB bias{0, 0, 0};
+            double withinTwoErrors = 0;
+            const auto* surface = dynamic_cast<const SurfaceVoxelSensor*>(&sensor);
+            if (!self && surface) {
+                const SurfaceReflectances sr = surfaceReflectances(r.film, *surface, m.reference, scene.environment);
+                colour = surfaceColourError(sr.points_mm, sr.film, sr.reference);
+                withinTwoErrors = sr.withinTwoErrors;
+                bias = sr.meanBias;
+                // The last budget's per-voxel error, where it fails (written with the tables).
+                if (budget == m.budgets.back())
+                    out.errorMaps.emplace_back(
+                        name, deltaEImage(colour->perVoxel, sr.imageIndex, m.reference.width, m.reference.height));
+                colour->perVoxel.clear();
+            }
+            if (self) out.selfFilms.push_back(std::move(r.film));
+            out.rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
+                                e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
+                                capabilitiesOf(s).deterministic ? (medianRel <= m.target ? r.seconds : INFINITY)
+                                                                : timeToTarget(r.seconds, medianRel, m.target),
+                                double(r.stats.scatterEvents) / (r.seconds * cores), colour, bias, withinTwoErrors});
+            std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget,
+                         s.spp, r.seconds, e.rmseAll);
+        }
+    }
+    return out;
+}
+
+// Self-variance over several renders: one denominator for every render,
+// the renders' means pooled with weights 1 / (render's MSE), so the
+// comparison between configurations is like for like and the least noisy
+// render counts most.
+void poolRelativeMse(Measured& measured) {
+    std::vector<Row>& rows = measured.rows;
+    const std::vector<Film>& films = measured.selfFilms;
+    if (films.size() < 2) return;
+    const size_t n = films.front().pixelCount();
+    std::vector<std::array<double, 3>> pooled(n, {0, 0, 0});
+    double weights = 0;
+    for (size_t i = 0; i < films.size(); ++i) {
+        const double w = 1.0 / std::max(rows[i].rmse * rows[i].rmse, 1e-30);
+        weights += w;
+        for (size_t p = 0; p < n; ++p)
+            for (int c = 0; c < 3; ++c) pooled[p][c] += w * films[i].mean(p, c);
+    }
+    auto meanSq = [&](size_t p, int c) {
+        const double m = pooled[p][c] / weights;
+        return m * m;
+    };
+    for (size_t i = 0; i < films.size(); ++i) rows[i].relMse = selfVariance(films[i], meanSq).relMse;
+}
+
+// The tables (markdown and CSV), with the equal-error speed-up over the
+// baseline (volpath, or else the first configuration) per budget (MSE x
+// time ratio), the per-channel and colour tables and the plot.
+void writeBenchTables(const Measured& measured, const Measurement& m, const std::vector<std::string>& names,
+                      const SceneDescription& desc, const LimitWalkRate& limit, int threads, bool acrossRanks,
+                      const std::string& prefix) {
+    const std::vector<Row>& rows = measured.rows;
+    const std::string baseline =
+        std::find(names.begin(), names.end(), "volpath") != names.end() ? "volpath" : names.front();
+    std::map<double, const Row*> baselineRows;  // per budget
+    for (const Row& r : rows)
+        if (r.config == baseline) baselineRows[r.budget] = &r;
+    std::ostringstream md, csv;
+    if (m.self())
+        md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
+           << "variance estimate (stderr^2 per pixel, at least " << kMinSelfSpp << " spp); relMSE divides it by one squared "
+           << "mean for all renders, their means pooled with weights 1/MSE (with one render: its own).\n\n";
+    else
+        md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *m.referenceFile
+           << "` (RMS standard error per pixel " << std::sqrt(m.referenceVariance) << ").\n\n";
+    md << "Limit walk, same run: " << siRate(limit.eventsPerSecondPerCore) << " scattering events/s/core on "
+       << limit.threads << " thread(s) (no lookups: exponential flights and HG sampling in an infinite medium). "
+       << "events/s/core: each render's scattering events over its wall time and threads";
+    if (acrossRanks) md << " (" << Distributed::ranks() << " MPI ranks of " << threads << " thread(s))";
+    md << ".\n\n";
+    char targetText[32];
+    std::snprintf(targetText, sizeof targetText, "%g %%", 100.0 * m.target);
+    md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
+       << baseline << " | median rel. error | time to " << targetText << " (s) | events/s/core | of limit |\n";
+    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline,"
+           "median_rel_error,seconds_to_target,events_per_s_per_core,fraction_of_limit\n";
+    for (const Row& r : rows) {
+        double speedup = baselineRows.count(r.budget) ? baselineRows[r.budget]->mseTime / r.mseTime : NAN;
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f",
+                      r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
+                      r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup, r.medianRelativeError,
+                      r.secondsToTarget, r.eventsPerSecondPerCore,
+                      r.eventsPerSecondPerCore / limit.eventsPerSecondPerCore);
+        md << "| " << line << " |\n";
+        std::string c = line;
+        for (char& ch : c)
+            if (ch == '|') ch = ',';
+        c.erase(std::remove(c.begin(), c.end(), ' '), c.end());
+        csv << c << "\n";
+    }
+    md << perChannelTable(rows, baseline, baselineRows);
+    md << colourTable(rows);
+    writeTextFile(prefix + ".md", md.str());
+    writeTextFile(prefix + ".csv", csv.str());
+    writeTextFile(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
+    for (const auto& [name, image] : measured.errorMaps) writePng(image, prefix + "_" + name + "_deltaE.png");
+    std::fputs(md.str().c_str(), stdout);
+}
+
 }  // namespace
 
 int benchCommand(const std::vector<std::string>& argv) {
@@ -419,29 +690,16 @@ int benchCommand(const std::vector<std::string>& argv) {
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};
     base.volpath.reentry = false;  // surface prediction: the estimators must agree
-    auto all = configurations(base);
-    std::vector<std::string> names = splitList(args.value("--configs").value_or("volpath,printpt"));
-    std::map<std::string, RenderSettings> chosen;
-    SceneNeeds needs;
-    for (const std::string& n : names) {
-        auto s = parseConfiguration(n, all);
-        if (!s) {
-            std::string known;
-            for (const auto& [k, v] : all) known += " " + k;
-            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
-        }
-        chosen[n] = *s;
-        needs |= sceneNeedsOf(*s);
-    }
+    ChosenConfigurations chosen = chooseConfigurations(args, base);
     // The reference: many samples of the trusted estimator (volpath by default).
     RenderSettings reference = base;
     reference.integrator = args.value("--integrator").value_or("volpath");
     auto makeRefPath = args.value("--make-reference");
-    if (makeRefPath) needs |= sceneNeedsOf(reference);
+    if (makeRefPath) chosen.needs |= sceneNeedsOf(reference);
     Scene scene;
     std::unique_ptr<Sensor> sensor;
     runOnEveryRank([&] {  // on every rank, or none (rank 0 says why)
-        scene = loadScene(desc, needs);
+        scene = loadScene(desc, chosen.needs);
         sensor = makeSensor(desc, scene);
     });
     // Across MPI ranks every render is split over them (each renders its
@@ -449,221 +707,24 @@ int benchCommand(const std::vector<std::string>& argv) {
     // rank 0's wall times; events/s/core count every rank's threads.
     const bool acrossRanks = Distributed::ranks() > 1, speaks = Distributed::rank() == 0;
     const int cores = threads.count * Distributed::ranks();
-
     if (makeRefPath) {
-        RenderSettings s = reference;
-        s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
-        s.seed = 0x5eed;
-        s.showProgress = speaks && ProgressBar::stderrIsTerminal();
-        refuseToOverwriteInputs(*makeRefPath, desc.inputFiles());
-        RenderResult r = render(scene, *sensor, s, acrossRanks);
-        if (!speaks) return 0;
-        RadianceImage im = filmToImage(r.film, *sensor);
-        im.metadata = {{"reference_spp", std::to_string(s.spp)}, {"integrator", s.integrator}};
-        writeExr(im, *makeRefPath);
-        double var = 0;
-        size_t n = 0;
-        for (size_t p = 0; p < r.film.pixelCount(); ++p)
-            for (int c = 0; c < 3; ++c, ++n) var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
-        std::printf("reference %s: %s, %u spp, %.1f s; its own RMS standard error per pixel %.3g\n",
-                    makeRefPath->c_str(), s.integrator.c_str(), s.spp, r.seconds, std::sqrt(var / double(n)));
+        makeReference(scene, *sensor, reference, *makeRefPath, args, desc, acrossRanks, speaks);
         return 0;
     }
-
     if (auto spps = args.value("--error-check")) {
-        std::vector<uint32_t> counts;
-        for (const std::string& n : splitList(*spps)) {
-            long v = 0;
-            try {
-                v = std::stol(n);
-            } catch (const std::exception&) {
-            }
-            if (v < 1 || v > long(RenderSettings::kMostSpp)) throw UsageError("--error-check takes sample counts, e.g. 1,2,8");
-            counts.push_back(uint32_t(v));
-        }
-        std::vector<std::pair<std::string, RenderSettings>> configs;
-        for (const std::string& n : names) configs.emplace_back(n, chosen[n]);
-        const uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX - 1).value_or(11));
-        const std::string md = errorCheckTable(scene, *sensor, configs, counts, seed, acrossRanks);
-        if (!speaks) return 0;
-        writeTextFile(args.value("--out").value_or("bench") + ".md", md);
-        std::fputs(md.c_str(), stdout);
+        checkErrors(scene, *sensor, chosen, *spps, args, acrossRanks, speaks);
         return 0;
     }
-
-    auto refPath = args.value("--reference");
-    const bool self = args.has("--self-variance");
-    if (!refPath && !self)
-        throw UsageError("bench needs --reference REF.exr (make one with --make-reference) or --self-variance");
-    if (refPath && self) throw UsageError("bench takes --reference or --self-variance, not both");
-    RadianceImage ref;
-    double refVar = 0;
-    if (refPath) {
-        ref = readExr(*refPath);
-        if (ref.width != sensor->imageWidth() || ref.height != sensor->imageHeight())
-            throw InputError(*refPath, "reference image size does not match the scene's sensor");
-        size_t refN = 0;
-        for (size_t i = 0; i < ref.mean.size(); ++i)
-            if (ref.coverage[i] > 0)
-                for (int c = 0; c < 3; ++c, ++refN) refVar += double(ref.standardError[i][c]) * ref.standardError[i][c];
-        refVar /= double(std::max<size_t>(refN, 1));
-    }
-
-    std::vector<double> budgets;
-    for (const std::string& b : splitList(args.value("--budgets").value_or("1,2,4,8"))) {
-        try {
-            budgets.push_back(std::stod(b));
-        } catch (const std::exception&) {
-            throw UsageError("--budgets takes seconds, e.g. 1,2,4,8");
-        }
-        if (!(budgets.back() > 0)) throw UsageError("--budgets must be positive");
-    }
-
-    // The whole-object target: the median per-pixel relative error (timeToTarget).
-    double target = 0.02;
-    if (auto t = args.value("--target-relative-error")) {
-        try {
-            target = std::stod(*t);
-        } catch (const std::exception&) {
-            target = 0;
-        }
-        if (!(target > 0 && target < 1)) throw UsageError("--target-relative-error must be in (0, 1), e.g. 0.02");
-    }
-
-    // Self-variance: at least kMinSelfSpp samples, or exactly --spp (>= 2:
-    // the sample variance is unbiased from two samples on).
-    const uint32_t selfSpp = uint32_t(args.integer("--spp", 2, 1 << 20).value_or(kMinSelfSpp));
+    const Measurement m = measurementOf(args, *sensor);
     // The floor every configuration's event rate is read against, in this
     // process and run.
     const LimitWalkRate limit = measureLimitWalk(threads.count);
     if (speaks) std::fprintf(stderr, "bench: limit walk %s events/s/core\n", siRate(limit.eventsPerSecondPerCore).c_str());
-    std::vector<Row> rows;
-    // Self-variance: each render's film, kept until all are done for the
-    // relative MSE (one denominator for all renders).
-    std::vector<Film> selfFilms;
-    // Per configuration, its per-voxel CIEDE2000 on the atlas (surface sensor, reference).
-    std::vector<std::pair<std::string, RadianceImage>> errorMaps;
-    for (const std::string& name : names) {
-        RenderSettings s = chosen[name];
-        s.spp = 1;
-        s.seed = 1;
-        const bool fixedSpp = self && args.has("--spp");
-        double perSpp = fixedSpp ? 1.0 : render(scene, *sensor, s, acrossRanks).seconds;  // calibration
-        for (double budget : budgets) {
-            if (fixedSpp && budget != budgets.front()) break;  // one render: the spp is fixed
-            s.spp = capabilitiesOf(s).deterministic ? 1u : uint32_t(std::max(1.0, std::round(budget / perSpp)));
-            if (acrossRanks) s.spp = broadcastFromRankZero(s.spp);  // rank 0's clock decides
-            if (fixedSpp) s.spp = selfSpp;
-            if (self) s.spp = std::max(s.spp, selfSpp);
-            // Hero channels go round groups of three samples, whose means are
-            // the independent units of the variance: at least two groups.
-            if (self && rendersChannelsInOnePass(s) && s.channelSampling == ChannelSampling::Hero)
-                s.spp = std::max(6u, (s.spp + 2) / 3 * 3);
-            s.seed += 1;
-            RenderResult r = render(scene, *sensor, s, acrossRanks);
-            if (!speaks) continue;
-            // (With several renders the relative MSE is redone below, over one denominator.)
-            auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
-            Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, *sensor, ref);
-            const double medianRel = medianRelativeError(r.film, *sensor, self ? nullptr : &ref);
-            std::optional<SurfaceColourError> colour;
-            RGB bias{0, 0, 0};
-            double withinTwoErrors = 0;
-            const auto* surface = dynamic_cast<const SurfaceVoxelSensor*>(sensor.get());
-            if (!self && surface) {
-                const SurfaceReflectances s = surfaceReflectances(r.film, *surface, ref, scene.environment);
-                colour = surfaceColourError(s.points_mm, s.film, s.reference);
-                withinTwoErrors = s.withinTwoErrors;
-                bias = s.meanBias;
-                // The last budget's per-voxel error, where it fails (written with the tables).
-                if (budget == budgets.back())
-                    errorMaps.emplace_back(name, deltaEImage(colour->perVoxel, s.imageIndex, ref.width, ref.height));
-                colour->perVoxel.clear();
-            }
-            if (self) selfFilms.push_back(std::move(r.film));
-            rows.push_back({name, budget, r.seconds, s.spp, e.rmse, e.rmseAll, e.relMse,
-                            e.rmseAll * e.rmseAll * r.seconds, r.passSeconds, medianRel,
-                            capabilitiesOf(s).deterministic ? (medianRel <= target ? r.seconds : INFINITY)
-                                                              : timeToTarget(r.seconds, medianRel, target),
-                            double(r.stats.scatterEvents) / (r.seconds * cores), colour, bias, withinTwoErrors});
-            std::fprintf(stderr, "bench: %-24s budget %6.2f s: %5u spp, %7.2f s, RMSE %.5f\n", name.c_str(), budget, s.spp,
-                         r.seconds, e.rmseAll);
-        }
-    }
-
+    Measured measured = measure(scene, *sensor, chosen, m, args, cores, acrossRanks, speaks);
     if (!speaks) return 0;
-    if (selfFilms.size() >= 2) {
-        // One denominator for every render: the renders' means pooled with
-        // weights 1 / (render's MSE), so the comparison between
-        // configurations is like for like and the least noisy render counts most.
-        const size_t n = selfFilms.front().pixelCount();
-        std::vector<std::array<double, 3>> pooled(n, {0, 0, 0});
-        double weights = 0;
-        for (size_t i = 0; i < selfFilms.size(); ++i) {
-            const double w = 1.0 / std::max(rows[i].rmse * rows[i].rmse, 1e-30);
-            weights += w;
-            for (size_t p = 0; p < n; ++p)
-                for (int c = 0; c < 3; ++c) pooled[p][c] += w * selfFilms[i].mean(p, c);
-        }
-        auto meanSq = [&](size_t p, int c) {
-            const double m = pooled[p][c] / weights;
-            return m * m;
-        };
-        for (size_t i = 0; i < selfFilms.size(); ++i)
-            rows[i].relMse = selfVariance(selfFilms[i], meanSq).relMse;
-    }
-
-    // Equal-error speed-up over the baseline (volpath, or else the first
-    // configuration), per budget (MSE x time ratio).
-    const std::string baseline =
-        std::find(names.begin(), names.end(), "volpath") != names.end() ? "volpath" : names.front();
-    std::map<double, const Row*> baselineRows;  // per budget
-    for (const Row& r : rows)
-        if (r.config == baseline) baselineRows[r.budget] = &r;
-    std::ostringstream md, csv;
-    if (self)
-        md << "Scene `" << desc.sceneFile.string() << "`, no reference: RMSE and relMSE are each render's own "
-           << "variance estimate (stderr^2 per pixel, at least " << kMinSelfSpp << " spp); relMSE divides it by one squared "
-           << "mean for all renders, their means pooled with weights 1/MSE (with one render: its own).\n\n";
-    else
-        md << "Scene `" << desc.sceneFile.string() << "`, reference `" << *refPath
-           << "` (RMS standard error per pixel " << std::sqrt(refVar) << ").\n\n";
-    md << "Limit walk, same run: " << siRate(limit.eventsPerSecondPerCore) << " scattering events/s/core on "
-       << limit.threads << " thread(s) (no lookups: exponential flights and HG sampling in an infinite medium). "
-       << "events/s/core: each render's scattering events over its wall time and threads";
-    if (acrossRanks) md << " (" << Distributed::ranks() << " MPI ranks of " << threads.count << " thread(s))";
-    md << ".\n\n";
-    char targetText[32];
-    std::snprintf(targetText, sizeof targetText, "%g %%", 100.0 * target);
-    md << "| config | budget (s) | spp | time (s) | RMSE R | RMSE G | RMSE B | RMSE | relMSE | MSE x time | speed-up vs "
-       << baseline << " | median rel. error | time to " << targetText << " (s) | events/s/core | of limit |\n";
-    md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    csv << "config,budget_s,spp,time_s,rmse_r,rmse_g,rmse_b,rmse,rel_mse,mse_x_time,speedup_vs_baseline,"
-           "median_rel_error,seconds_to_target,events_per_s_per_core,fraction_of_limit\n";
-    for (const Row& r : rows) {
-        double speedup = baselineRows.count(r.budget) ? baselineRows[r.budget]->mseTime / r.mseTime : NAN;
-        char line[512];
-        std::snprintf(line, sizeof line,
-                      "%s | %.3g | %u | %.3f | %.5f | %.5f | %.5f | %.5f | %.4g | %.4g | %.2f | %.4g | %.4g | %.4g | %.3f",
-                      r.config.c_str(), r.budget, r.spp, r.seconds, r.rmseChannel[0], r.rmseChannel[1],
-                      r.rmseChannel[2], r.rmse, r.relMse, r.mseTime, speedup, r.medianRelativeError,
-                      r.secondsToTarget, r.eventsPerSecondPerCore,
-                      r.eventsPerSecondPerCore / limit.eventsPerSecondPerCore);
-        md << "| " << line << " |\n";
-        std::string c = line;
-        for (char& ch : c)
-            if (ch == '|') ch = ',';
-        c.erase(std::remove(c.begin(), c.end(), ' '), c.end());
-        csv << c << "\n";
-    }
-    md << perChannelTable(rows, baseline, baselineRows);
-    md << colourTable(rows);
-    std::string prefix = args.value("--out").value_or("bench");
-    writeTextFile(prefix + ".md", md.str());
-    writeTextFile(prefix + ".csv", csv.str());
-    writeTextFile(prefix + ".svg", svgPlot(rows, desc.sceneFile.filename().string() + ": RMSE against time"));
-    for (const auto& [name, image] : errorMaps) writePng(image, prefix + "_" + name + "_deltaE.png");
-    std::fputs(md.str().c_str(), stdout);
+    poolRelativeMse(measured);
+    writeBenchTables(measured, m, chosen.names, desc, limit, threads.count, acrossRanks,
+                     args.value("--out").value_or("bench"));
     return 0;
 }
 
