@@ -94,6 +94,57 @@ std::string describeComparison(const JobOutcome& o, const std::vector<int>& chan
     return s.str();
 }
 
+// Renders job j of the manifest, writes its result and compares it with
+// the stored one: what it printed (printed at once with printNow), its CSV
+// row and whether it passed.
+nlohmann::json runJob(const BatchManifest& manifest, size_t j, SceneDescription& desc, const std::filesystem::path& dir,
+                      const std::string& code, const std::optional<std::filesystem::path>& compareDir,
+                      const ComparisonLimits& limits, bool quiet, bool printNow) {
+    const BatchJob& job = manifest.jobs[j];
+    auto t0 = std::chrono::steady_clock::now();
+    Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
+    std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
+    desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
+    RenderResult result = render(scene, *sensor, desc.render);
+
+    JobOutcome out;
+    out.pixels = sensor->pixelCount();
+    RadianceImage image = filmToPixelImage(result.film);
+    image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
+                      {"integrator", desc.render.integrator},
+                      {"sensor", desc.sensor.type},
+                      {"pixels", std::to_string(out.pixels)},
+                      {"spp", std::to_string(desc.render.spp)},
+                      {"seed", std::to_string(desc.render.seed)},
+                      {"channels", channelNames(desc.render.channels)},
+                      {"code", code}};
+    writeExr(image, dir / (job.name + ".exr"));
+    out.seconds = secondsSince(t0);
+    char line[512];
+    std::snprintf(line, sizeof line, "batch [%zu/%zu] %s: %zu px x %u spp x %zu ch, %s, seed %llu, %.2f s\n", j + 1,
+                  manifest.jobs.size(), job.name.c_str(), out.pixels, desc.render.spp,
+                  desc.render.channels.size(), desc.render.integrator.c_str(),
+                  (unsigned long long)desc.render.seed, out.seconds);
+    std::string printed = line;
+    if (compareDir) {
+        compareWithStored(image, out.pixels, desc.render.channels, *compareDir / (job.name + ".exr"), limits, out);
+        printed += "  compare (" + out.mode + "): " + describeComparison(out, desc.render.channels) + " -> " +
+                   (out.passed ? "pass" : "FAIL") + "\n";
+    }
+    if (printNow) {
+        std::fputs(printed.c_str(), stdout);
+        std::fflush(stdout);
+    }
+    std::ostringstream row;
+    row << job.name << ',' << job.sceneFile.string() << ',' << desc.render.integrator << ',' << desc.render.spp
+        << ',' << desc.render.seed << ',' << channelNames(desc.render.channels) << ',' << out.pixels << ','
+        << out.seconds << ',' << out.mode << ',' << out.comparison.outlierFraction();
+    for (double b : out.comparison.bias) row << ',' << b;
+    for (double z : out.comparison.biasZ) row << ',' << z;
+    row << ',' << (compareDir ? (out.passed ? "pass" : "fail") : "-") << '\n';
+    return {{"job", j}, {"passed", out.passed}, {"printed", printed}, {"row", row.str()}};
+}
+
 }  // namespace
 
 int batchCommand(const std::vector<std::string>& argv) {
@@ -142,52 +193,8 @@ int batchCommand(const std::vector<std::string>& argv) {
     std::string code = codeFingerprint();
     nlohmann::json done = nlohmann::json::array();
     runOnEveryRank([&] {  // a failure on any rank stops them all; rank 0 says which
-        for (size_t j = size_t(rank); j < manifest.jobs.size(); j += size_t(ranks)) {
-            const BatchJob& job = manifest.jobs[j];
-            SceneDescription& desc = descs[j];
-            auto t0 = std::chrono::steady_clock::now();
-            Scene scene = loadScene(desc, sceneNeedsOf(desc.render));
-            std::unique_ptr<Sensor> sensor = makeSensor(desc, scene);
-            desc.render.showProgress = !quiet && ProgressBar::stderrIsTerminal();
-            RenderResult result = render(scene, *sensor, desc.render);
-
-            JobOutcome out;
-            out.pixels = sensor->pixelCount();
-            RadianceImage image = filmToPixelImage(result.film);
-            image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
-                              {"integrator", desc.render.integrator},
-                              {"sensor", desc.sensor.type},
-                              {"pixels", std::to_string(out.pixels)},
-                              {"spp", std::to_string(desc.render.spp)},
-                              {"seed", std::to_string(desc.render.seed)},
-                              {"channels", channelNames(desc.render.channels)},
-                              {"code", code}};
-            writeExr(image, dir / (job.name + ".exr"));
-            out.seconds = secondsSince(t0);
-            char line[512];
-            std::snprintf(line, sizeof line, "batch [%zu/%zu] %s: %zu px x %u spp x %zu ch, %s, seed %llu, %.2f s\n", j + 1,
-                          manifest.jobs.size(), job.name.c_str(), out.pixels, desc.render.spp,
-                          desc.render.channels.size(), desc.render.integrator.c_str(),
-                          (unsigned long long)desc.render.seed, out.seconds);
-            std::string printed = line;
-            if (compareDir) {
-                compareWithStored(image, out.pixels, desc.render.channels, *compareDir / (job.name + ".exr"), limits, out);
-                printed += "  compare (" + out.mode + "): " + describeComparison(out, desc.render.channels) + " -> " +
-                           (out.passed ? "pass" : "FAIL") + "\n";
-            }
-            if (ranks == 1) {
-                std::fputs(printed.c_str(), stdout);
-                std::fflush(stdout);
-            }
-            std::ostringstream row;
-            row << job.name << ',' << job.sceneFile.string() << ',' << desc.render.integrator << ',' << desc.render.spp
-                << ',' << desc.render.seed << ',' << channelNames(desc.render.channels) << ',' << out.pixels << ','
-                << out.seconds << ',' << out.mode << ',' << out.comparison.outlierFraction();
-            for (double b : out.comparison.bias) row << ',' << b;
-            for (double z : out.comparison.biasZ) row << ',' << z;
-            row << ',' << (compareDir ? (out.passed ? "pass" : "fail") : "-") << '\n';
-            done.push_back({{"job", j}, {"passed", out.passed}, {"printed", printed}, {"row", row.str()}});
-        }
+        for (size_t j = size_t(rank); j < manifest.jobs.size(); j += size_t(ranks))
+            done.push_back(runJob(manifest, j, descs[j], dir, code, compareDir, limits, quiet, ranks == 1));
     });
     const std::vector<std::string> fromRanks = gatherTextOnRankZero(done.dump());
     if (rank != 0) return 0;

@@ -63,6 +63,12 @@ std::string setOption(const OptionParameter<Options>& p, Options& options, doubl
     return "";
 }
 
+// The option's value in `options` (booleans: 0 or 1).
+template <class Options>
+double optionValue(const OptionParameter<Options>& p, const Options& options) {
+    return std::visit([&](auto member) { return double(options.*member); }, p.field);
+}
+
 // The same by name; throws std::invalid_argument for a name the table
 // does not hold.
 template <class Options>

@@ -14,6 +14,7 @@
 #include "io/learned_model_io.h"
 #include "io/materials_io.h"
 #include "io/mesh_io.h"
+#include "io/output_file.h"
 
 namespace pl {
 
@@ -70,16 +71,10 @@ std::string channelNames(const std::vector<int>& channels) {
     return s;
 }
 
-SceneDescription parseScene(const std::filesystem::path& sceneFile) {
-    JsonReader json(sceneFile);
-    const nlohmann::json& root = json.root();
-    if (!root.is_object()) json.fail("", "must be a JSON object");
-    json.expectOnlyKeys(root, "", {"object", "environment", "sensor", "render", "output", "comment"});
-    SceneDescription d;
-    d.sceneFile = sceneFile;
-    std::filesystem::path dir = sceneFile.parent_path();
-
-    // object
+namespace {
+// The "object" block: the mesh and how it is placed, labels, materials.
+void parseObject(const JsonReader& json, const nlohmann::json& root, const std::filesystem::path& dir,
+                 SceneDescription& d) {
     const auto& obj = json.object(root, "object", "");
     json.expectOnlyKeys(obj, "object", {"mesh", "mesh_units", "mesh_scale", "mesh_repair", "labels", "materials", "ior", "void_label",
                                          "homogeneous_core_depth_mm"});
@@ -105,19 +100,11 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         if (v < 0 || v > 255) json.fail("object.void_label", "must be in 0..255");
         d.voidLabel = Label(v);
     }
+}
 
-    // environment
-    if (root.contains("environment")) {
-        const auto& env = json.object(root, "environment", "");
-        json.expectOnlyKeys(env, "environment", {"radiance"});
-        d.environment = json.rgb(env, "radiance", "environment");
-        for (float v : d.environment)
-            if (v < 0) json.fail("environment.radiance", "must not be negative");
-    }
-
-    // sensor
+// The "sensor" block.
+void parseSensor(const JsonReader& json, const nlohmann::json& root, SensorDescription& s) {
     const auto& sen = json.object(root, "sensor", "");
-    SensorDescription& s = d.sensor;
     s.type = json.string(sen, "type", "sensor");
     if (s.type == "surface_voxels") {
         json.expectOnlyKeys(sen, "sensor", {"type", "footprint"});
@@ -154,8 +141,13 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     } else {
         json.fail("sensor.type", "must be surface_voxels, perspective or orthographic");
     }
+}
 
-    // render
+// The "render" block (the settings' defaults without one), and whether the
+// estimator takes the sensor.
+void parseRender(const JsonReader& json, const nlohmann::json& root, const std::filesystem::path& dir,
+                 SceneDescription& d) {
+    const SensorDescription& s = d.sensor;
     RenderSettings& r = d.render;
     r.learnedModel = learnedModelBeside(d.materialsFile);
     if (root.contains("render")) {
@@ -197,7 +189,30 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
     }
     if (!(capabilitiesOf(r).sensors & sensorKindOf(s)))
         json.fail("sensor", r.integrator + " takes " + sensorKindsText(capabilitiesOf(r).sensors));
+}
+}  // namespace
 
+SceneDescription parseScene(const std::filesystem::path& sceneFile) {
+    JsonReader json(sceneFile);
+    const nlohmann::json& root = json.root();
+    if (!root.is_object()) json.fail("", "must be a JSON object");
+    json.expectOnlyKeys(root, "", {"object", "environment", "sensor", "render", "output", "comment"});
+    SceneDescription d;
+    d.sceneFile = sceneFile;
+    std::filesystem::path dir = sceneFile.parent_path();
+
+    parseObject(json, root, dir, d);
+    // environment
+    if (root.contains("environment")) {
+        const auto& env = json.object(root, "environment", "");
+        json.expectOnlyKeys(env, "environment", {"radiance"});
+        d.environment = json.rgb(env, "radiance", "environment");
+        for (float v : d.environment)
+            if (v < 0) json.fail("environment.radiance", "must not be negative");
+    }
+
+    parseSensor(json, root, d.sensor);
+    parseRender(json, root, dir, d);
     // output
     if (root.contains("output")) {
         const auto& out = json.object(root, "output", "");
@@ -207,6 +222,86 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
         d.output = sceneFile.stem();
     }
     return d;
+}
+
+namespace {
+// The render block's table options that differ from the defaults.
+template <class Options>
+void writeOptions(const std::vector<OptionParameter<Options>>& table, const Options& options, const Options& defaults,
+                  nlohmann::json& out) {
+    using Kind = typename OptionParameter<Options>::Kind;
+    for (const OptionParameter<Options>& p : table) {
+        const double value = optionValue(p, options);
+        if (value == optionValue(p, defaults)) continue;
+        if (p.kind() == Kind::Boolean) out[p.name] = value != 0;
+        else if (p.kind() == Kind::Integer) out[p.name] = int64_t(value);
+        else out[p.name] = value;
+    }
+}
+
+std::string relativeTo(const std::filesystem::path& target, const std::filesystem::path& fromDir) {
+    return std::filesystem::relative(std::filesystem::absolute(target),
+                                     std::filesystem::absolute(fromDir.empty() ? "." : fromDir))
+        .generic_string();
+}
+
+nlohmann::json renderBlockOf(const SceneDescription& d, const std::filesystem::path& dir) {
+    const RenderSettings& r = d.render;
+    const RenderSettings defaults;
+    nlohmann::json ren = {{"integrator", r.integrator}};
+    const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
+    if (r.spp != (progressive ? RenderSettings::kMostSpp : defaults.spp)) ren["spp"] = r.spp;
+    if (r.timeBudget_s > 0) ren["time_budget_s"] = r.timeBudget_s;
+    if (r.targetRelativeError > 0) ren["target_relative_error"] = r.targetRelativeError;
+    if (r.seed != defaults.seed) ren["seed"] = r.seed;
+    if (r.channels != defaults.channels) ren["channel"] = channelNames(r.channels);
+    if (r.channelSampling != defaults.channelSampling)
+        ren["channel_sampling"] = enumName(kChannelSamplingNames, r.channelSampling);
+    if (r.majorants != defaults.majorants) ren["majorants"] = enumName(kMajorantsNames, r.majorants);
+    if (r.lighttrace.scoring != defaults.lighttrace.scoring)
+        ren["lighttrace_scoring"] = enumName(kLightTraceScoringNames, r.lighttrace.scoring);
+    if (!r.learnedModel.empty() && r.learnedModel != learnedModelBeside(d.materialsFile))
+        ren["learned_model"] = relativeTo(r.learnedModel, dir);
+    writeOptions(volPathParameters(), r.volpath, defaults.volpath, ren);
+    writeOptions(lightTraceParameters(), r.lighttrace, defaults.lighttrace, ren);
+    writeOptions(printPtParameters(), r.printpt, defaults.printpt, ren);
+    return ren;
+}
+
+nlohmann::json sensorBlockOf(const SensorDescription& s) {
+    nlohmann::json sen = {{"type", s.type}};
+    if (s.type == "surface_voxels") {
+        sen["footprint"] = s.footprint == SurfaceVoxelSensor::Footprint::Patch ? "patch" : "ray";
+        return sen;
+    }
+    auto triple = [](const Vec3f& v) { return nlohmann::json{v.x, v.y, v.z}; };
+    sen["position"] = triple(s.pose.position_mm);
+    sen["look_at"] = triple(s.pose.lookAt_mm);
+    sen["up"] = triple(s.pose.up);
+    if (s.type == "perspective") sen["fov_deg"] = s.fovY_deg;
+    else sen["width_mm"] = s.viewWidth_mm;
+    sen["resolution"] = {s.width, s.height};
+    return sen;
+}
+}  // namespace
+
+void writeScene(const SceneDescription& d, const std::filesystem::path& file) {
+    const std::filesystem::path dir = file.parent_path();
+    nlohmann::json object = {{"mesh", relativeTo(d.meshFile, dir)},
+                             {"labels", relativeTo(d.labelsFile, dir)},
+                             {"materials", relativeTo(d.materialsFile, dir)},
+                             {"ior", d.ior}};
+    if (d.meshPlacement.unit) object["mesh_units"] = lengthUnitName(*d.meshPlacement.unit);
+    if (d.meshPlacement.scale != 1.0) object["mesh_scale"] = d.meshPlacement.scale;
+    if (d.meshRepair) object["mesh_repair"] = true;
+    if (d.voidLabel) object["void_label"] = int(*d.voidLabel);
+    if (d.homogeneousCoreDepth_mm > 0) object["homogeneous_core_depth_mm"] = d.homogeneousCoreDepth_mm;
+    const nlohmann::json scene = {{"object", object},
+                                  {"environment", {{"radiance", {d.environment[0], d.environment[1], d.environment[2]}}}},
+                                  {"sensor", sensorBlockOf(d.sensor)},
+                                  {"render", renderBlockOf(d, dir)},
+                                  {"output", {{"path", d.output.generic_string()}}}};
+    writeTextFile(file, scene.dump(2) + "\n");
 }
 
 Scene loadScene(const SceneDescription& d, SceneNeeds needs) {

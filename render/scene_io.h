@@ -48,6 +48,11 @@ struct SceneDescription {
 // Parses and validates the JSON; reads no other file.
 SceneDescription parseScene(const std::filesystem::path& sceneFile);
 
+// Writes the scene file parseScene reads back as `desc`: input paths
+// relative to the file's folder, the render block's keys only where they
+// differ from the defaults (each from its option or name table).
+void writeScene(const SceneDescription& desc, const std::filesystem::path& file);
+
 // Loads mesh, label grid and materials and checks they fit together, plus
 // what `needs` asks for.
 Scene loadScene(const SceneDescription& desc, SceneNeeds needs = {});

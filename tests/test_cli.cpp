@@ -478,8 +478,8 @@ TEST(Cli, EstimatorsRefuseSensorsTheyDoNotTake) {
     TestScene s("lighttrace_ray_footprint");
     s.scene["render"]["integrator"] = "lighttrace";
     CliRun r = s.render();
-    expectCleanFailure(s, r, "scene.json", "sensor: lighttrace takes a \"surface_voxels\" sensor with "
-                                           "\"footprint\": \"patch\" only");
+    expectCleanFailure(s, r, "scene.json: 'sensor'", "lighttrace takes a \"surface_voxels\" sensor with "
+                                                     "\"footprint\": \"patch\" only");
 }
 
 // printpt's switches: one table for the scene file and bench's overrides.
