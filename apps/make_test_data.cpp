@@ -240,6 +240,61 @@ struct Layer {
     bool dots = false;
 };
 
+// One to three layers under the surface, each of one mixture, of regions
+// of random mixtures or of a pattern (stripes or dots) of two.
+std::vector<Layer> randomLayers(Rng& rng) {
+    std::vector<Layer> layers(size_t(1 + rng.next32() % 3));
+    float depth_mm = 0;
+    for (Layer& layer : layers) {
+        depth_mm += 0.05f + (rng.uniform() < 0.5f ? 0.3f : 1.2f) * rng.uniform();
+        layer.bottom_mm = depth_mm;
+        layer.mixture = randomMixture(rng);
+        const float kind = rng.uniform();
+        layer.kind = kind < 0.3f ? Layer::Kind::Uniform : kind < 0.65f ? Layer::Kind::Regions : Layer::Kind::Pattern;
+        const float phi = 2 * kPi * rng.uniform(), cosTheta = 2 * rng.uniform() - 1;
+        const float sinTheta = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
+        layer.stripe = {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+        if (layer.kind == Layer::Kind::Regions) {
+            layer.period_mm = 0.1f + 2.9f * rng.uniform() * rng.uniform();
+            for (int k = 0; k < 8; ++k) layer.palette.push_back(randomMixture(rng));
+        } else if (layer.kind == Layer::Kind::Pattern) {
+            layer.second = randomMixture(rng);
+            layer.period_mm = 0.1f + 1.4f * rng.uniform() * rng.uniform();
+            layer.fill = 0.1f + 0.5f * rng.uniform();
+            layer.dots = rng.uniform() < 0.4f;
+        }
+    }
+    return layers;
+}
+
+// The mixture at a voxel centre this deep: its layer's, or the core's.
+const Mixture* mixtureAt(const Point3f& c, float depth, const std::vector<Layer>& layers, const Mixture& coreMixture) {
+    const Mixture* mixture = &coreMixture;
+    for (const Layer& layer : layers) {
+        if (depth >= layer.bottom_mm) continue;
+        mixture = &layer.mixture;
+        if (layer.kind == Layer::Kind::Regions) {
+            const Frame turned(layer.stripe);
+            const Vec3f q = c * (1.0f / layer.period_mm);
+            const uint64_t cell = mix64(uint64_t(int64_t(std::floor(dot(q, turned.s))) * 73856093) ^
+                                        uint64_t(int64_t(std::floor(dot(q, turned.t))) * 19349663) ^
+                                        uint64_t(int64_t(std::floor(dot(q, turned.n))) * 83492791));
+            mixture = &layer.palette[cell % layer.palette.size()];
+        } else if (layer.kind == Layer::Kind::Pattern) {
+            float phase = dot(c, layer.stripe) / layer.period_mm;
+            bool inside = phase - std::floor(phase) < layer.fill;
+            if (layer.dots) {
+                const Vec3f q = c * (1.0f / layer.period_mm);
+                const Vec3f f{q.x - std::floor(q.x) - 0.5f, q.y - std::floor(q.y) - 0.5f, q.z - std::floor(q.z) - 0.5f};
+                inside = std::sqrt(dot(f, f)) < 0.6f * layer.fill;
+            }
+            if (inside) mixture = &layer.second;
+        }
+        break;
+    }
+    return mixture;
+}
+
 void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& dir) {
     Rng rng(seed, uint64_t(index));
     const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // the printer's (prepare's) voxels
@@ -268,27 +323,7 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
         const Vec3f q{(c.x - radius_mm.x) / radius_mm.x, (c.y - radius_mm.y) / radius_mm.y, (c.z - radius_mm.z) / radius_mm.z};
         return (1.0f - std::sqrt(dot(q, q))) * std::min({radius_mm.x, radius_mm.y, radius_mm.z});
     };
-    std::vector<Layer> layers(size_t(1 + rng.next32() % 3));
-    float depth_mm = 0;
-    for (Layer& layer : layers) {
-        depth_mm += 0.05f + (rng.uniform() < 0.5f ? 0.3f : 1.2f) * rng.uniform();
-        layer.bottom_mm = depth_mm;
-        layer.mixture = randomMixture(rng);
-        const float kind = rng.uniform();
-        layer.kind = kind < 0.3f ? Layer::Kind::Uniform : kind < 0.65f ? Layer::Kind::Regions : Layer::Kind::Pattern;
-        const float phi = 2 * kPi * rng.uniform(), cosTheta = 2 * rng.uniform() - 1;
-        const float sinTheta = std::sqrt(std::max(0.0f, 1 - cosTheta * cosTheta));
-        layer.stripe = {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
-        if (layer.kind == Layer::Kind::Regions) {
-            layer.period_mm = 0.1f + 2.9f * rng.uniform() * rng.uniform();
-            for (int k = 0; k < 8; ++k) layer.palette.push_back(randomMixture(rng));
-        } else if (layer.kind == Layer::Kind::Pattern) {
-            layer.second = randomMixture(rng);
-            layer.period_mm = 0.1f + 1.4f * rng.uniform() * rng.uniform();
-            layer.fill = 0.1f + 0.5f * rng.uniform();
-            layer.dots = rng.uniform() < 0.4f;
-        }
-    }
+    const std::vector<Layer> layers = randomLayers(rng);
     const float core = rng.uniform();
     Mixture coreMixture = randomMixture(rng);
     if (core < 0.7f) coreMixture = Mixture{}, coreMixture.share[kWhiteLabel] = 1;
@@ -308,29 +343,7 @@ void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& 
                 const uint64_t h = mix64(seed ^ (uint64_t(index) << 48) ^ uint64_t(x) * 73856093u ^
                                          uint64_t(y) * 19349663u ^ uint64_t(z) * 83492791u);
                 const float u = float(h >> 40) / float(1 << 24);
-                const Mixture* mixture = &coreMixture;
-                for (const Layer& layer : layers) {
-                    if (depth >= layer.bottom_mm) continue;
-                    mixture = &layer.mixture;
-                    if (layer.kind == Layer::Kind::Regions) {
-                        const Frame turned(layer.stripe);
-                        const Vec3f q = c * (1.0f / layer.period_mm);
-                        const uint64_t cell = mix64(uint64_t(int64_t(std::floor(dot(q, turned.s))) * 73856093) ^
-                                                    uint64_t(int64_t(std::floor(dot(q, turned.t))) * 19349663) ^
-                                                    uint64_t(int64_t(std::floor(dot(q, turned.n))) * 83492791));
-                        mixture = &layer.palette[cell % layer.palette.size()];
-                    } else if (layer.kind == Layer::Kind::Pattern) {
-                        float phase = dot(c, layer.stripe) / layer.period_mm;
-                        bool inside = phase - std::floor(phase) < layer.fill;
-                        if (layer.dots) {
-                            const Vec3f q = c * (1.0f / layer.period_mm);
-                            const Vec3f f{q.x - std::floor(q.x) - 0.5f, q.y - std::floor(q.y) - 0.5f, q.z - std::floor(q.z) - 0.5f};
-                            inside = std::sqrt(dot(f, f)) < 0.6f * layer.fill;
-                        }
-                        if (inside) mixture = &layer.second;
-                    }
-                    break;
-                }
+                const Mixture* mixture = mixtureAt(c, depth, layers, coreMixture);
                 builder.set({x, y, z}, mixture->pick(u));
             }
         if (z % 32 == 0) builder.compact();

@@ -182,133 +182,169 @@ std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& 
     return std::make_unique<Diffusion>(scene, sensor);
 }
 
-Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse(scene, sensor) {
-    const LabelMedium& medium = *scene.medium;
-    const size_t n = elementCount();
+namespace {
 
-    // One table pair per Henyey-Greenstein g of the labels.
+// The profile tables, one pair per Henyey-Greenstein g of the labels, and
+// per channel and label the index of its pair.
+struct LabelProfiles {
     std::vector<ProfileTables> tables;
+    std::array<std::array<uint16_t, 256>, kChannels> tableOfLabel{};
+};
+
+LabelProfiles labelProfilesOf(const LabelMedium& medium, float ior) {
+    LabelProfiles out;
+    std::vector<ProfileTables>& tables = out.tables;
     float mostSigmaS = 0;
     for (int c = 0; c < kChannels; ++c)
         for (int l = 0; l < 256; ++l)
             mostSigmaS = std::max(mostSigmaS, medium.lut(c).sigmaT_perMm[l] * medium.lut(c).albedo[l]);
-    std::array<std::array<uint16_t, 256>, kChannels> tableOfLabel{};
     for (int c = 0; c < kChannels; ++c)
         for (int l = 0; l < 256; ++l) {
             const ChannelLut& lut = medium.lut(c);
             if (!(lut.sigmaT_perMm[l] > 0)) continue;
             auto same = std::find_if(tables.begin(), tables.end(), [&](const ProfileTables& t) { return t.g == lut.g[l]; });
             if (same == tables.end()) {
-                tables.push_back({lut.g[l], sharedTable<SingleScatteringDepthTable>(lut.g[l], scene.ior), nullptr});
+                tables.push_back({lut.g[l], sharedTable<SingleScatteringDepthTable>(lut.g[l], ior), nullptr});
                 same = tables.end() - 1;
             }
-            tableOfLabel[c][l] = uint16_t(same - tables.begin());
+            out.tableOfLabel[c][l] = uint16_t(same - tables.begin());
             // Resins that hardly scatter (clear) bring no diffusion.
             if (lut.sigmaT_perMm[l] * lut.albedo[l] > 1e-3f * mostSigmaS && !same->multiple)
-                same->multiple = sharedTable<BeamDiffusionTable>(lut.g[l], scene.ior);
+                same->multiple = sharedTable<BeamDiffusionTable>(lut.g[l], ior);
         }
+    return out;
+}
 
-    // Each element's column: single scattering and the effective medium.
+// A run of one label down an element's column, and its weight in the
+// effective medium: e^{-z / kSurfaceLayer_mm} over the run.
+struct ColumnSegment {
+    Label label;
+    float z0, z1;
+    double weight;
+};
+
+// The labels down the column under surface point `e.p` along -normal (to
+// the object's far side or kColumnDepth_mm), with their weights; returns
+// how many segments carry weight (past the first below e^{-z /
+// kSurfaceLayer_mm} = 1e-3 the rest weighs less than 0.1 %).
+size_t readColumn(const Scene& scene, const Point3f& p, const Vec3f& normal, LabelMedium::Tracker& sampler,
+                  std::vector<ColumnSegment>& column) {
+    const LabelMedium& medium = *scene.medium;
+    const Ray inward = scene.geometry->spawnRay(p, normal, -normal);
+    const auto exit = scene.geometry->intersectFromInside(inward, kColumnDepth_mm);
+    const float depth_mm = exit ? exit->t : kColumnDepth_mm;
+    const CellRay cells = medium.toCellRay(inward);
+    column.clear();
+    GridDda dda(cells.o, cells.d, 0.0f, depth_mm, medium.frame().indexMin, medium.frame().indexMax());
+    DdaSegment segment;
+    while (dda.next(segment)) column.push_back({sampler.labelAt(segment.cell), segment.t0, segment.t1, 0.0});
+    size_t weighted = 0;
+    float above = column.empty() ? 0.0f : std::exp(-column.front().z0 / kSurfaceLayer_mm);
+    while (weighted < column.size()) {
+        const float below = std::exp(-column[weighted].z1 / kSurfaceLayer_mm);
+        column[weighted++].weight = above - below;
+        above = below;
+        if (below < 1e-3f) break;
+    }
+    return weighted;
+}
+
+// Single scattering down the column, layer by layer, in one channel.
+double singleScatteringOf(const std::vector<ColumnSegment>& column, const ChannelLut& lut, const LabelProfiles& profiles,
+                          int channel) {
+    double tau = 0, single = 0;
+    for (const ColumnSegment& s : column) {
+        const SingleScatteringDepthTable& table = *profiles.tables[profiles.tableOfLabel[channel][s.label]].single;
+        const double tauNext = tau + double(lut.sigmaT_perMm[s.label]) * (s.z1 - s.z0);
+        single += lut.albedo[s.label] * (table.cumulative(tauNext) - table.cumulative(tau));
+        tau = tauNext;
+        if (tau > SingleScatteringDepthTable::kMaxOpticalDepth) break;
+    }
+    return single;
+}
+
+// The element's effective medium in one channel: the coefficients weighted
+// by e^{-z / kSurfaceLayer_mm} down the column, and the multiple-scattering
+// table of the nearest g.
+void setEffectiveMedium(const std::vector<ColumnSegment>& column, size_t weighted, const ChannelLut& lut,
+                        const LabelProfiles& profiles, int c, Element& e) {
+    double w = 0, wt = 0, ws = 0, wg = 0;
+    for (size_t k = 0; k < weighted; ++k) {
+        const ColumnSegment& s = column[k];
+        const double st = lut.sigmaT_perMm[s.label], ss = st * lut.albedo[s.label];
+        w += s.weight;
+        wt += s.weight * st;
+        ws += s.weight * ss;
+        wg += s.weight * ss * lut.g[s.label];
+    }
+    const float sigmaT = w > 0 ? float(wt / w) : 0.0f, sigmaS = w > 0 ? float(ws / w) : 0.0f;
+    const float g = ws > 0 ? float(wg / ws) : 0.0f;
+    e.sigmaT_perMm[c] = sigmaT;
+    e.sigmaS_perMm[c] = sigmaS;
+    float nearest = 1e30f;
+    const std::vector<ProfileTables>& tables = profiles.tables;
+    for (size_t t = 0; t < tables.size(); ++t)
+        if (tables[t].multiple && std::abs(float(tables[t].g) - g) < nearest) {
+            nearest = std::abs(float(tables[t].g) - g);
+            e.table[c] = uint16_t(t);
+        }
+}
+
+// Multiple scattering at element i: the profile summed over the surface
+// around it (its own patch as a disc of its area), in the medium averaged
+// between the two columns.
+std::array<double, kChannels> multipleScatteringAt(size_t i, const std::vector<Element>& elements,
+                                                   const ClusterTree& tree, const std::vector<ProfileTables>& tables) {
+    const Element& e = elements[i];
+    std::array<double, kChannels> sum{0, 0, 0};
+    auto add = [&](float r_mm, float area_mm2, float spread_mm2, const RGB& sigmaT, const RGB& sigmaS) {
+        for (int c = 0; c < kChannels; ++c) {
+            const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
+            if (!table) continue;
+            const float st = 0.5f * (e.sigmaT_perMm[c] + sigmaT[c]), ss = 0.5f * (e.sigmaS_perMm[c] + sigmaS[c]);
+            if (st > 0) sum[c] += area_mm2 * table->spreadProfile_perMm2(ss / st, st, r_mm, spread_mm2);
+        }
+    };
+    const float ownRadius_mm = std::sqrt(e.area_mm2 / kPi);
+    for (int c = 0; c < kChannels; ++c) {
+        const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
+        if (table && e.sigmaT_perMm[c] > 0)
+            sum[c] += table->withinRadius(e.sigmaS_perMm[c] / e.sigmaT_perMm[c], e.sigmaT_perMm[c], ownRadius_mm);
+    }
+    tree.forEachSource(e.p, i, add);
+    return sum;
+}
+
+}  // namespace
+
+Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse(scene, sensor) {
+    const LabelMedium& medium = *scene.medium;
+    const size_t n = elementCount();
+    const LabelProfiles profiles = labelProfilesOf(medium, scene.ior);
     std::vector<Element> elements(n);
     single_.assign(n, RGB{0, 0, 0});
     multiple_.assign(n, RGB{0, 0, 0});
-    if (tables.empty()) return;  // nothing in the object scatters
-    const Vec3i gridLo = medium.frame().indexMin, gridHi = medium.frame().indexMax();
+    if (profiles.tables.empty()) return;  // nothing in the object scatters
+    // Each element's column: single scattering and the effective medium.
     parallelForTiles(n, 256, [&](size_t begin, size_t end) {
         LabelMedium::Tracker sampler(medium);
-        struct Segment {
-            Label label;
-            float z0, z1;
-            double weight;  // in the effective medium: e^{-z / kSurfaceLayer_mm} over the segment
-        };
-        std::vector<Segment> column;
+        std::vector<ColumnSegment> column;
         for (size_t i = begin; i < end; ++i) {
             const SurfacePoint geometry = surfacePoint(i);
             Element& e = elements[i];
             e.p = geometry.p;
             e.area_mm2 = geometry.area_mm2;
-            const Vec3f normal = geometry.normal;
-            const Ray inward = scene.geometry->spawnRay(e.p, normal, -normal);
-            const auto exit = scene.geometry->intersectFromInside(inward, kColumnDepth_mm);
-            const float depth_mm = exit ? exit->t : kColumnDepth_mm;
-            const CellRay cells = medium.toCellRay(inward);
-            column.clear();
-            GridDda dda(cells.o, cells.d, 0.0f, depth_mm, gridLo, gridHi);
-            DdaSegment segment;
-            while (dda.next(segment)) column.push_back({sampler.labelAt(segment.cell), segment.t0, segment.t1, 0.0});
-            // The effective medium's weights, the same in every channel; past
-            // the first segment below e^{-z / kSurfaceLayer_mm} = 1e-3 the rest
-            // weighs less than 0.1 %.
-            size_t weighted = 0;
-            float above = column.empty() ? 0.0f : std::exp(-column.front().z0 / kSurfaceLayer_mm);
-            while (weighted < column.size()) {
-                const float below = std::exp(-column[weighted].z1 / kSurfaceLayer_mm);
-                column[weighted++].weight = above - below;
-                above = below;
-                if (below < 1e-3f) break;
-            }
-
+            const size_t weighted = readColumn(scene, e.p, geometry.normal, sampler, column);
             for (int c = 0; c < kChannels; ++c) {
-                const ChannelLut& lut = medium.lut(c);
-                // Single scattering, layer by layer.
-                double tau = 0, single = 0;
-                for (const Segment& s : column) {
-                    const SingleScatteringDepthTable& table = *tables[tableOfLabel[c][s.label]].single;
-                    const double tauNext = tau + double(lut.sigmaT_perMm[s.label]) * (s.z1 - s.z0);
-                    single += lut.albedo[s.label] * (table.cumulative(tauNext) - table.cumulative(tau));
-                    tau = tauNext;
-                    if (tau > SingleScatteringDepthTable::kMaxOpticalDepth) break;
-                }
-                single_[i][c] = float(single);
-                // The effective medium: the coefficients weighted by
-                // e^{-z / kSurfaceLayer_mm} down the column.
-                double w = 0, wt = 0, ws = 0, wg = 0;
-                for (size_t k = 0; k < weighted; ++k) {
-                    const Segment& s = column[k];
-                    const double st = lut.sigmaT_perMm[s.label], ss = st * lut.albedo[s.label];
-                    w += s.weight;
-                    wt += s.weight * st;
-                    ws += s.weight * ss;
-                    wg += s.weight * ss * lut.g[s.label];
-                }
-                const float sigmaT = w > 0 ? float(wt / w) : 0.0f, sigmaS = w > 0 ? float(ws / w) : 0.0f;
-                const float g = ws > 0 ? float(wg / ws) : 0.0f;
-                e.sigmaT_perMm[c] = sigmaT;
-                e.sigmaS_perMm[c] = sigmaS;
-                // The multiple-scattering table of the nearest g.
-                float nearest = 1e30f;
-                for (size_t t = 0; t < tables.size(); ++t)
-                    if (tables[t].multiple && std::abs(float(tables[t].g) - g) < nearest) {
-                        nearest = std::abs(float(tables[t].g) - g);
-                        e.table[c] = uint16_t(t);
-                    }
+                single_[i][c] = float(singleScatteringOf(column, medium.lut(c), profiles, c));
+                setEffectiveMedium(column, weighted, medium.lut(c), profiles, c, e);
             }
         }
     });
-
-    // Multiple scattering: the profile summed over the surface around each
-    // element, in the medium averaged between the two columns.
     const ClusterTree tree(elements);
     parallelForTiles(n, 256, [&](size_t begin, size_t end) {
         for (size_t i = begin; i < end; ++i) {
-            const Element& e = elements[i];
-            std::array<double, kChannels> sum{0, 0, 0};
-            auto add = [&](float r_mm, float area_mm2, float spread_mm2, const RGB& sigmaT, const RGB& sigmaS) {
-                for (int c = 0; c < kChannels; ++c) {
-                    const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
-                    if (!table) continue;
-                    const float st = 0.5f * (e.sigmaT_perMm[c] + sigmaT[c]), ss = 0.5f * (e.sigmaS_perMm[c] + sigmaS[c]);
-                    if (st > 0) sum[c] += area_mm2 * table->spreadProfile_perMm2(ss / st, st, r_mm, spread_mm2);
-                }
-            };
-            // Its own patch: the profile over a disc of its area.
-            const float ownRadius_mm = std::sqrt(e.area_mm2 / kPi);
-            for (int c = 0; c < kChannels; ++c) {
-                const BeamDiffusionTable* table = tables[e.table[c]].multiple.get();
-                if (table && e.sigmaT_perMm[c] > 0)
-                    sum[c] += table->withinRadius(e.sigmaS_perMm[c] / e.sigmaT_perMm[c], e.sigmaT_perMm[c], ownRadius_mm);
-            }
-            tree.forEachSource(e.p, i, add);
+            const std::array<double, kChannels> sum = multipleScatteringAt(i, elements, tree, profiles.tables);
             for (int c = 0; c < kChannels; ++c) multiple_[i][c] = float(sum[c]);
         }
     });
