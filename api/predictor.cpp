@@ -8,6 +8,7 @@
 
 #include "runtime/distributed.h"
 #include "runtime/progress.h"
+#include "render/progressive_render.h"
 #include "render/registry.h"
 #include "core/input_error.h"
 #include "render/scene_io.h"
@@ -145,32 +146,19 @@ SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
     const Sensor& sensor = *state_->sensor;
-    RenderResult r{Film(sensor.pixelCount())};
     // One integrator for all rounds: its census and means are made once.
+    // Across ranks each renders its share of a round's pixels and every
+    // rank receives the whole film after each round (pooled on rank 0), so
+    // that all decide the next round alike.
     const auto t0 = std::chrono::steady_clock::now();
-    const std::unique_ptr<Integrator> integrator = makeIntegrator(state_->scene, sensor, rs, controlMeans_);
+    RenderRounds rounds(state_->scene, sensor, rs, acrossRanks_, true, controlMeans_);
+    RenderResult& r = rounds.result();
     r.seconds += secondsSince(t0);
-    // This rank's share (all pixels in one process); across ranks the
-    // film is made whole on every rank after each round (pooled on rank 0).
-    const PixelShare mine = acrossRanks_ ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
-    PathStats allStats;  // over the ranks (r's are this rank's)
-    auto renderRound = [&](const std::vector<uint32_t>* subset, uint32_t first, uint32_t count) {
-        PixelShare share = mine;
-        if (subset && !mine.acrossRanks) share.pixels = *subset;
-        if (subset && mine.acrossRanks) {
-            share.pixels.clear();
-            for (uint32_t p : *subset)
-                if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
-        }
-        renderSamples(*integrator, state_->scene, sensor, rs, share, first, count, r);
-        allStats = gatherShares(r, share, sensor);
-        if (mine.acrossRanks) broadcastFromRankZero(r.film, allStats);
-    };
     if (!adaptive_.enabled) {
-        renderRound(nullptr, 0, rs.spp);
+        rounds.render(nullptr, 0, rs.spp);
     } else {
         const AdaptiveSampling& a = adaptive_;
-        renderRound(nullptr, 0, std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp));
+        rounds.render(nullptr, 0, std::min(std::max(a.firstRoundSpp, 2u), a.maxSpp));
         // Each round renders the voxels that miss the target, in groups of
         // one sample count (sample s is the same path in any round). A
         // voxel's error is pooled with its neighbours', so one that met the
@@ -184,9 +172,9 @@ SurfacePrediction Predictor::predict() {
                 if (n < a.maxSpp && !converged(r.film, p, rs.channels, a)) activeBySamples[n].push_back(uint32_t(p));
             }
             const bool more = !activeBySamples.empty() && !(a.maxSeconds > 0 && r.seconds >= a.maxSeconds);
-            if (!(mine.acrossRanks ? broadcastFromRankZero(uint32_t(more)) : more)) break;
+            if (!(rounds.acrossRanks() ? broadcastFromRankZero(uint32_t(more)) : more)) break;
             for (const auto& [done, active] : activeBySamples)
-                renderRound(&active, done, std::min(std::max(a.roundSpp, 1u), a.maxSpp - done));
+                rounds.render(&active, done, std::min(std::max(a.roundSpp, 1u), a.maxSpp - done));
         }
     }
     SurfacePrediction p;
@@ -200,7 +188,7 @@ SurfacePrediction Predictor::predict() {
         p.standardError[i] = r.film.standardErrorRGB(i);
         p.samples[i] = r.film.samples(i, rs.channels.front());
     }
-    p.stats = allStats;
+    p.stats = rounds.stats();
     p.voxelsShareSamples = capabilitiesOf(rs).lightPathsServeEveryPixel;
     p.renderSeconds = r.seconds;
     p.updateSeconds = pendingUpdateSeconds_;

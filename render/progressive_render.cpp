@@ -36,17 +36,44 @@ double medianRelativeError(const Film& film, const Sensor& sensor, const Radianc
     return worst;
 }
 
+RenderRounds::RenderRounds(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks,
+                           bool filmOnEveryRank, std::shared_ptr<HalfSpaceMeans> controlMeans)
+    : scene_(scene),
+      sensor_(sensor),
+      settings_(settings),
+      share_(acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{}),
+      filmOnEveryRank_(filmOnEveryRank),
+      result_{Film(sensor.pixelCount())} {
+    runOnEveryRank([&] { integrator_ = makeIntegrator(scene, sensor, settings, std::move(controlMeans)); },
+                   share_.acrossRanks);
+}
+
+RenderRounds::~RenderRounds() = default;
+
+void RenderRounds::render(const std::vector<uint32_t>* pixels, uint32_t first, uint32_t count) {
+    PixelShare share = share_;
+    if (pixels && !share_.acrossRanks) share.pixels = *pixels;
+    if (pixels && share_.acrossRanks) {
+        share.pixels.clear();
+        for (uint32_t p : *pixels)
+            if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
+    }
+    runOnEveryRank([&] { renderSamples(*integrator_, scene_, sensor_, settings_, share, first, count, result_); },
+                   share_.acrossRanks);
+    stats_ = gatherShares(result_, share, sensor_);
+    if (share_.acrossRanks && filmOnEveryRank_) broadcastFromRankZero(result_.film, stats_);
+}
+
 ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                       const std::function<void(const RenderResult&, uint32_t)>& onRound,
                                       bool acrossRanks) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    ProgressiveRender out{RenderResult{Film(sensor.pixelCount())}, 0, 0, "spp"};
-    const PixelShare share = acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{};
-    const bool decides = !share.acrossRanks || Distributed::rank() == 0;
-    std::unique_ptr<Integrator> integrator;
-    runOnEveryRank([&] { integrator = makeIntegrator(scene, sensor, settings); }, share.acrossRanks);
+    RenderRounds rounds(scene, sensor, settings, acrossRanks);
+    ProgressiveRender out;
+    out.stoppedBy = "spp";
+    const bool decides = !rounds.acrossRanks() || Distributed::rank() == 0;
     const bool timed = settings.timeBudget_s > 0, targeted = settings.targetRelativeError > 0;
     // After a round (on the rank that decides): the next round's samples,
     // 0 to stop. Double (an image after each round), or fewer where the
@@ -58,43 +85,42 @@ ProgressiveRender renderProgressively(const Scene& scene, const Sensor& sensor, 
             out.stoppedBy = "target error";
             return 0;
         }
-        const double perSample = out.result.seconds / out.spp;
-        if (timed && out.result.seconds + perSample >= settings.timeBudget_s) {
+        const double seconds = rounds.result().seconds;
+        const double perSample = seconds / out.spp;
+        if (timed && seconds + perSample >= settings.timeBudget_s) {
             out.stoppedBy = "time";
             return 0;
         }
         double next = out.spp;
         if (targeted && std::isfinite(out.medianRelativeError))
             next = std::min(next, std::max(1.0, std::ceil(out.spp * (std::pow(out.medianRelativeError / settings.targetRelativeError, 2) - 1.0))));
-        if (timed) next = std::min(next, std::floor((settings.timeBudget_s - out.result.seconds) / perSample));
+        if (timed) next = std::min(next, std::floor((settings.timeBudget_s - seconds) / perSample));
         return uint32_t(std::clamp(next, 1.0, double(settings.spp - out.spp)));
     };
     // Across ranks a failure of rank 0's (writing the images) must stop
     // the others, which wait for its decision.
     constexpr uint32_t kRankZeroFailed = ~0u;
-    PathStats allStats;  // over the ranks, on the rank that decides (out.result's are this rank's)
     for (uint32_t round = 1; round > 0;) {
-        runOnEveryRank([&] { renderSamples(*integrator, scene, sensor, settings, share, out.spp, round, out.result); },
-                       share.acrossRanks);
+        rounds.render(nullptr, out.spp, round);
         out.spp += round;
-        allStats = gatherShares(out.result, share, sensor);
-        out.result.seconds = elapsed();
+        rounds.result().seconds = elapsed();
         uint32_t next = 0;
         std::exception_ptr failure;
         if (decides) try {
-                out.medianRelativeError = medianRelativeError(out.result.film, sensor, nullptr, true);
-                if (onRound) onRound(out.result, out.spp);
+                out.medianRelativeError = medianRelativeError(rounds.result().film, sensor, nullptr, true);
+                if (onRound) onRound(rounds.result(), out.spp);
                 next = nextRound();
             } catch (...) {
-                if (!share.acrossRanks) throw;
+                if (!rounds.acrossRanks()) throw;
                 failure = std::current_exception();
                 next = kRankZeroFailed;
             }
-        round = share.acrossRanks ? broadcastFromRankZero(next) : next;
+        round = rounds.acrossRanks() ? broadcastFromRankZero(next) : next;
         if (failure) std::rethrow_exception(failure);
         if (round == kRankZeroFailed) throw std::runtime_error("MPI rank 0 failed");
     }
-    out.result.stats = allStats;
+    out.result = std::move(rounds.result());
+    out.result.stats = rounds.stats();
     return out;
 }
 

@@ -25,6 +25,41 @@ struct RadianceImage;
 // left out (previews), under self-variance.
 double medianRelativeError(const Film& film, const Sensor& sensor, const RadianceImage* ref, bool skipExact = false);
 
+// Rounds of samples with one integrator, made once (its census and means
+// serve every round): each round renders some samples of some pixels into
+// one film, sample s of pixel p the same path in any round, so rounds give
+// the bits of a render in one go. Across MPI ranks each rank renders its
+// share of a round's pixels and rank 0 gathers them after each round (and
+// sends the whole film to every rank, if asked: the ranks then decide
+// alike). The progressive render and the prediction API's adaptive
+// sampling decide their rounds with it.
+class RenderRounds {
+public:
+    // acrossRanks: every rank makes the same calls, in step. controlMeans:
+    // as for makeIntegrator.
+    RenderRounds(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks,
+                 bool filmOnEveryRank = false, std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+    ~RenderRounds();
+    // Samples [first, first + count) of these pixels (all: none). Rank 0's
+    // film and statistics hold the rounds so far (every rank's, with
+    // filmOnEveryRank); a failure on any rank stops them all.
+    void render(const std::vector<uint32_t>* pixels, uint32_t first, uint32_t count);
+    RenderResult& result() { return result_; }
+    // The statistics over the ranks (the result's are this rank's own).
+    const PathStats& stats() const { return stats_; }
+    bool acrossRanks() const { return share_.acrossRanks; }
+
+private:
+    const Scene& scene_;
+    const Sensor& sensor_;
+    const RenderSettings& settings_;
+    const PixelShare share_;
+    const bool filmOnEveryRank_;
+    std::unique_ptr<Integrator> integrator_;
+    RenderResult result_;
+    PathStats stats_;
+};
+
 struct ProgressiveRender {
     RenderResult result;
     uint32_t spp = 0;                  // samples per pixel rendered

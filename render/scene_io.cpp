@@ -228,7 +228,7 @@ namespace {
 // The render block's table options that differ from the defaults.
 template <class Options>
 void writeOptions(const std::vector<OptionParameter<Options>>& table, const Options& options, const Options& defaults,
-                  nlohmann::json& out) {
+                  nlohmann::ordered_json& out) {
     using Kind = typename OptionParameter<Options>::Kind;
     for (const OptionParameter<Options>& p : table) {
         const double value = optionValue(p, options);
@@ -245,10 +245,10 @@ std::string relativeTo(const std::filesystem::path& target, const std::filesyste
         .generic_string();
 }
 
-nlohmann::json renderBlockOf(const SceneDescription& d, const std::filesystem::path& dir) {
+nlohmann::ordered_json renderBlockOf(const SceneDescription& d, const std::filesystem::path& dir) {
     const RenderSettings& r = d.render;
     const RenderSettings defaults;
-    nlohmann::json ren = {{"integrator", r.integrator}};
+    nlohmann::ordered_json ren = {{"integrator", r.integrator}};
     const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
     if (r.spp != (progressive ? RenderSettings::kMostSpp : defaults.spp)) ren["spp"] = r.spp;
     if (r.timeBudget_s > 0) ren["time_budget_s"] = r.timeBudget_s;
@@ -268,13 +268,13 @@ nlohmann::json renderBlockOf(const SceneDescription& d, const std::filesystem::p
     return ren;
 }
 
-nlohmann::json sensorBlockOf(const SensorDescription& s) {
-    nlohmann::json sen = {{"type", s.type}};
+nlohmann::ordered_json sensorBlockOf(const SensorDescription& s) {
+    nlohmann::ordered_json sen = {{"type", s.type}};
     if (s.type == "surface_voxels") {
         sen["footprint"] = s.footprint == SurfaceVoxelSensor::Footprint::Patch ? "patch" : "ray";
         return sen;
     }
-    auto triple = [](const Vec3f& v) { return nlohmann::json{v.x, v.y, v.z}; };
+    auto triple = [](const Vec3f& v) { return nlohmann::ordered_json{v.x, v.y, v.z}; };
     sen["position"] = triple(s.pose.position_mm);
     sen["look_at"] = triple(s.pose.lookAt_mm);
     sen["up"] = triple(s.pose.up);
@@ -287,7 +287,7 @@ nlohmann::json sensorBlockOf(const SensorDescription& s) {
 
 void writeScene(const SceneDescription& d, const std::filesystem::path& file) {
     const std::filesystem::path dir = file.parent_path();
-    nlohmann::json object = {{"mesh", relativeTo(d.meshFile, dir)},
+    nlohmann::ordered_json object = {{"mesh", relativeTo(d.meshFile, dir)},
                              {"labels", relativeTo(d.labelsFile, dir)},
                              {"materials", relativeTo(d.materialsFile, dir)},
                              {"ior", d.ior}};
@@ -296,7 +296,7 @@ void writeScene(const SceneDescription& d, const std::filesystem::path& file) {
     if (d.meshRepair) object["mesh_repair"] = true;
     if (d.voidLabel) object["void_label"] = int(*d.voidLabel);
     if (d.homogeneousCoreDepth_mm > 0) object["homogeneous_core_depth_mm"] = d.homogeneousCoreDepth_mm;
-    const nlohmann::json scene = {{"object", object},
+    const nlohmann::ordered_json scene = {{"object", object},
                                   {"environment", {{"radiance", {d.environment[0], d.environment[1], d.environment[2]}}}},
                                   {"sensor", sensorBlockOf(d.sensor)},
                                   {"render", renderBlockOf(d, dir)},
