@@ -19,6 +19,7 @@
 #include "io/image_io.h"
 #include "core/input_error.h"
 #include "io/output_file.h"
+#include "render/render_outputs.h"
 #include "render/scene_io.h"
 
 namespace pl {
@@ -110,14 +111,13 @@ nlohmann::json runJob(const BatchManifest& manifest, size_t j, SceneDescription&
     JobOutcome out;
     out.pixels = sensor->pixelCount();
     RadianceImage image = filmToPixelImage(result.film);
-    image.metadata = {{"scene", job.sceneFile.lexically_normal().string()},
-                      {"integrator", desc.render.integrator},
-                      {"sensor", desc.sensor.type},
-                      {"pixels", std::to_string(out.pixels)},
-                      {"spp", std::to_string(desc.render.spp)},
-                      {"seed", std::to_string(desc.render.seed)},
-                      {"channels", channelNames(desc.render.channels)},
-                      {"code", code}};
+    // How it was made, as a render's image says (render/render_outputs.h),
+    // with the scene's path as the manifest names it, the pixels and the code.
+    image.metadata = renderMetadata(desc, desc.render.spp);
+    for (auto& [key, value] : image.metadata)
+        if (key == "scene") value = job.sceneFile.lexically_normal().string();
+    image.metadata.push_back({"pixels", std::to_string(out.pixels)});
+    image.metadata.push_back({"code", code});
     writeExr(image, dir / (job.name + ".exr"));
     out.seconds = secondsSince(t0);
     char line[512];

@@ -55,7 +55,7 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     std::map<std::string, RenderSettings> c;
     RenderSettings v = base;
     v.integrator = "volpath";
-    v.volpath.reentry = false;
+    v.reentry = false;
     c["volpath"] = v;
     // Every flight starts with a boundary query (no clearance first).
     RenderSettings geometryFirst = v;
@@ -689,7 +689,7 @@ int benchCommand(const std::vector<std::string>& argv) {
     SceneDescription desc = parseScene(args.positional()[0]);
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};
-    base.volpath.reentry = false;  // surface prediction: the estimators must agree
+    base.reentry = false;  // surface prediction: the estimators must agree
     ChosenConfigurations chosen = chooseConfigurations(args, base);
     // The reference: many samples of the trusted estimator (volpath by default).
     RenderSettings reference = base;

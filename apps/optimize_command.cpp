@@ -111,7 +111,7 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
 // cube).
 RenderSettings choosePredictors(const Arguments& args, const std::string& predictorName, RenderSettings& render,
                                 OptimizeSettings& os) {
-    render.volpath.reentry = false;  // surface prediction
+    render.reentry = false;  // surface prediction
     RenderSettings judge = render;
     chooseIntegrator(judge, "volpath", "the judge");
     os.judgeIntegrator = judge.integrator;

@@ -207,7 +207,7 @@ void writeScenes(const std::filesystem::path& sceneOut, const std::filesystem::p
     preview.render.spp = uint32_t(RenderSettings::kMostSpp);
     preview.render.targetRelativeError = 0.05;
     preview.render.timeBudget_s = 60;
-    preview.render.volpath.reentry = true;
+    preview.render.reentry = true;
     preview.output = "out/" + stem + "_preview";
     writeScene(preview, sceneOut.string() + "_preview.json");
 }

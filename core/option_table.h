@@ -14,11 +14,13 @@
 namespace pl {
 
 // Booleans take any value (non-zero: on); integer fields whole numbers
-// only.
+// only (as doubles: exact up to 2^53).
 template <class Options>
 struct OptionParameter {
     const char* name;
-    std::variant<bool Options::*, int Options::*, int64_t Options::*, float Options::*> field;
+    std::variant<bool Options::*, int Options::*, int64_t Options::*, uint32_t Options::*, uint64_t Options::*,
+                 float Options::*, double Options::*>
+        field;
     double min = 0, max = 0;
     bool minOpen = false;   // (min, max] instead of [min, max]
     const char* rangeText;  // what a value out of range is told ("must be ...")
@@ -26,7 +28,8 @@ struct OptionParameter {
     enum class Kind { Boolean, Integer, Number };
     Kind kind() const {
         if (std::holds_alternative<bool Options::*>(field)) return Kind::Boolean;
-        if (std::holds_alternative<float Options::*>(field)) return Kind::Number;
+        if (std::holds_alternative<float Options::*>(field) || std::holds_alternative<double Options::*>(field))
+            return Kind::Number;
         return Kind::Integer;
     }
 };
@@ -50,7 +53,7 @@ std::string setOption(const OptionParameter<Options>& p, Options& options, doubl
         return "";
     }
     // A float field is checked as it will hold the value.
-    if (p.kind() == Kind::Number) value = double(float(value));
+    if (std::holds_alternative<float Options::*>(p.field)) value = double(float(value));
     const bool whole = p.kind() == Kind::Integer;
     const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
     if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;

@@ -54,7 +54,7 @@ void PixelIntegrator::render(const RenderPass& pass, Film& film, PathStats& stat
 }
 
 std::string refusalWithoutReentry(const char* name, const RenderSettings& settings) {
-    return settings.volpath.reentry
+    return settings.reentry
                ? std::string(name) + " does not trace re-entry; the scene asks for \"reentry\": true"
                : std::string();
 }

@@ -496,7 +496,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             if (keep > 0.0f && rng.uniform() < keep) score(y, r.d, label, pointWeight / keep, p, *roulette);
         }
     };
-    walkVolume(scene_, volpathOptions_, ray, path, medium, rng, stats, onFlight, onCollision);
+    walkVolume(scene_, volpathOptions_, false, ray, path, medium, rng, stats, onFlight, onCollision);
     tally.endParticle();
 }
 

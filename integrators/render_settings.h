@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/option_table.h"
 #include "integrators/lighttrace.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
@@ -21,6 +22,10 @@ struct RenderSettings {
     double timeBudget_s = 0;     // > 0: stop at this wall time (render/progressive_render.h)
     double targetRelativeError = 0;  // > 0: stop at this median per-pixel relative error
     uint64_t seed = 1;
+    // Trace light that leaves the object back against it (the object sees
+    // itself): a statement about the whole scene, which every estimator
+    // traces (volpath) or refuses. Surface prediction leaves it off.
+    bool reentry = false;
     std::vector<int> channels{0, 1, 2};  // rendered channels
     // How all three channels are sampled (a subset is always one pass per
     // channel). Separate passes won on the test set (docs/performance.md).
@@ -36,5 +41,10 @@ struct RenderSettings {
     std::filesystem::path learnedModel;
     bool showProgress = false;
 };
+
+// The render block's own numeric and boolean options by their scene-file
+// names (core/option_table.h); integrator, channel, channel_sampling,
+// majorants and learned_model are names and paths (render/scene_io).
+const std::vector<OptionParameter<RenderSettings>>& renderParameters();
 
 }  // namespace pl

@@ -10,7 +10,6 @@ const std::vector<OptionParameter<VolPathOptions>>& volPathParameters() {
     static const std::vector<OptionParameter<O>> parameters = {
         {"max_depth", &O::maxDepth, -1e9, 1e9, false, "must be a whole number in -1e9..1e9",
          "scattering events per path; negative: unlimited"},
-        {"reentry", &O::reentry, 0, 0, false, "", "trace light that leaves the object back against it"},
     };
     return parameters;
 }
@@ -24,7 +23,7 @@ IntegratorCapabilities VolPath::capabilities(const RenderSettings& settings) {
 
 std::unique_ptr<Integrator> VolPath::create(const Scene& scene, const Sensor&, const RenderSettings& settings,
                                             std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<VolPath>(scene, settings.volpath);
+    return std::make_unique<VolPath>(scene, settings.volpath, settings.reentry);
 }
 
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
@@ -55,7 +54,7 @@ template <class Path>
 typename Path::Value VolPath::trace(Ray ray, Path path, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats,
                                     const std::optional<SurfaceHit>* firstHit) const {
     return walkVolume(
-        scene_, options_, ray, path, medium, rng, stats, [](const Ray&, float, const Path&) {},
+        scene_, options_, reentry_, ray, path, medium, rng, stats, [](const Ray&, float, const Path&) {},
         [](const Point3f&, const Vec3f&, Label, const Path&) {}, firstHit);
 }
 

@@ -20,7 +20,9 @@ public:
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
     static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                               std::shared_ptr<HalfSpaceMeans> controlMeans);
-    VolPath(const Scene& scene, VolPathOptions options) : scene_(scene), options_(options) {}
+    // reentry: trace light that leaves the object back against it.
+    VolPath(const Scene& scene, VolPathOptions options, bool reentry = false)
+        : scene_(scene), options_(options), reentry_(reentry) {}
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const override;
@@ -35,6 +37,7 @@ private:
 
     const Scene& scene_;
     VolPathOptions options_;
+    bool reentry_;
 };
 
 }  // namespace pl

@@ -21,7 +21,6 @@
 namespace pl {
 
 struct VolPathOptions {
-    bool reentry = false;  // trace light that leaves the object back against it
     int64_t maxDepth = -1; // scattering events per path; < 0: unlimited (unbiased)
     // After a real collision, sample the flight up to the surface clearance
     // (a lower bound of the distance to the boundary) before asking Embree:
@@ -34,7 +33,7 @@ struct VolPathOptions {
 // environment light the path gathers. firstHit: where the caller already
 // asked the geometry along `ray` (the answer, a hit or none), not asked again.
 template <class Path, class OnFlight, class OnCollision>
-typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, Ray ray, Path& path,
+typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& options, bool reentry, Ray ray, Path& path,
                                 LabelMedium::Tracker& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
                                 OnCollision&& onCollision, const std::optional<SurfaceHit>* firstHit = nullptr) {
     const Geometry& geometry = *scene.geometry;
@@ -130,7 +129,7 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
         bool reflected = rng.uniform() < F;
         bool nowOutside = fromInside != reflected;
         // Without re-entry, light that leaves the object is done.
-        if (nowOutside && !options.reentry) {
+        if (nowOutside && !reentry) {
             path.addLight(L, 1.0f);
             return L;
         }

@@ -152,28 +152,19 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
     r.learnedModel = learnedModelBeside(d.materialsFile);
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        std::vector<std::string> keys = {"integrator", "spp",       "time_budget_s",     "target_relative_error",
-                                         "seed",       "channel",   "channel_sampling",  "majorants",
-                                         "lighttrace_scoring",      "learned_model"};
+        std::vector<std::string> keys = {"integrator", "channel", "channel_sampling", "majorants", "lighttrace_scoring",
+                                         "learned_model"};
+        for (const auto& p : renderParameters()) keys.push_back(p.name);
         for (const auto& p : volPathParameters()) keys.push_back(p.name);
         for (const auto& p : lightTraceParameters()) keys.push_back(p.name);
         for (const auto& p : printPtParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
-        r.timeBudget_s = json.number(ren, "time_budget_s", "render", 0.0);
-        if (!(r.timeBudget_s >= 0 && std::isfinite(r.timeBudget_s))) json.fail("render.time_budget_s", "must be >= 0 (seconds)");
-        r.targetRelativeError = json.number(ren, "target_relative_error", "render", 0.0);
-        if (!(r.targetRelativeError >= 0 && r.targetRelativeError < 10))
-            json.fail("render.target_relative_error", "must be in [0, 10)");
+        readOptions(json, ren, renderParameters(), r);
         // With a budget or a target, spp is the most samples: none unless given.
         const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
-        int64_t spp = json.integer(ren, "spp", "render", progressive ? RenderSettings::kMostSpp : 16);
-        if (spp < 1 || spp > RenderSettings::kMostSpp) json.fail("render.spp", "must be in 1..16777216");
-        r.spp = uint32_t(spp);
-        int64_t seed = json.integer(ren, "seed", "render", 1);
-        if (seed < 0) json.fail("render.seed", "must not be negative");
-        r.seed = uint64_t(seed);
+        if (progressive && !ren.contains("spp")) r.spp = uint32_t(RenderSettings::kMostSpp);
         auto ch = parseChannels(json.string(ren, "channel", "render", "rgb"));
         if (!ch) json.fail("render.channel", "must be r, g, b or rgb");
         r.channels = *ch;
@@ -249,11 +240,10 @@ nlohmann::ordered_json renderBlockOf(const SceneDescription& d, const std::files
     const RenderSettings& r = d.render;
     const RenderSettings defaults;
     nlohmann::ordered_json ren = {{"integrator", r.integrator}};
-    const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
-    if (r.spp != (progressive ? RenderSettings::kMostSpp : defaults.spp)) ren["spp"] = r.spp;
-    if (r.timeBudget_s > 0) ren["time_budget_s"] = r.timeBudget_s;
-    if (r.targetRelativeError > 0) ren["target_relative_error"] = r.targetRelativeError;
-    if (r.seed != defaults.seed) ren["seed"] = r.seed;
+    // Without spp, a budget or a target takes the most samples.
+    RenderSettings tableDefaults;
+    if (r.timeBudget_s > 0 || r.targetRelativeError > 0) tableDefaults.spp = uint32_t(RenderSettings::kMostSpp);
+    writeOptions(renderParameters(), r, tableDefaults, ren);
     if (r.channels != defaults.channels) ren["channel"] = channelNames(r.channels);
     if (r.channelSampling != defaults.channelSampling)
         ren["channel_sampling"] = enumName(kChannelSamplingNames, r.channelSampling);

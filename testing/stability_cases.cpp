@@ -74,7 +74,7 @@ Measurement measure(const Scene& scene, const Sensor& sensor, const std::string&
     rs.spp = spp;
     rs.seed = seed;
     rs.channels = {0};
-    rs.volpath.reentry = false;
+    rs.reentry = false;
     RenderResult r = render(scene, sensor, rs);
     Measurement m;
     double sum = 0, var = 0;

@@ -1,5 +1,5 @@
-// Options declared once (core/option_table.h): every key of volpath's,
-// lighttrace's and printpt's tables is one render key of the scene file,
+// Options declared once (core/option_table.h): every key of the render
+// block's own, volpath's, lighttrace's and printpt's tables is one render key of the scene file,
 // has its row in docs/scene-format.md, takes its own default without
 // complaint, and refuses a value out of its range with its text.
 #include <gtest/gtest.h>
@@ -44,11 +44,13 @@ void expectDeclaredOnceAndDocumented(const std::vector<OptionParameter<Options>>
 TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     const std::string doc = test::readText(test::sourceDir() / "docs/scene-format.md");
     std::set<std::string> names;
+    expectDeclaredOnceAndDocumented(renderParameters(), names, doc);
     expectDeclaredOnceAndDocumented(volPathParameters(), names, doc);
     expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
     expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
     // One render block: no key in two tables.
-    EXPECT_EQ(names.size(), volPathParameters().size() + lightTraceParameters().size() + printPtParameters().size());
+    EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
+                                printPtParameters().size());
 }
 
 template <class Options>
@@ -85,10 +87,7 @@ void expectSameScene(const SceneDescription& a, const SceneDescription& b) {
     }
     const RenderSettings &ra = a.render, &rb = b.render;
     EXPECT_EQ(ra.integrator, rb.integrator);
-    EXPECT_EQ(ra.spp, rb.spp);
-    EXPECT_EQ(ra.timeBudget_s, rb.timeBudget_s);
-    EXPECT_EQ(ra.targetRelativeError, rb.targetRelativeError);
-    EXPECT_EQ(ra.seed, rb.seed);
+    expectSameOptions(renderParameters(), ra, rb);
     EXPECT_EQ(ra.channels, rb.channels);
     EXPECT_EQ(ra.channelSampling, rb.channelSampling);
     EXPECT_EQ(ra.majorants, rb.majorants);
@@ -119,10 +118,6 @@ TEST(SceneFiles, WrittenScenesReadBackTheSame) {
     d.sensor.type = "orthographic";
     d.sensor.viewWidth_mm = 12.5f;
     d.render.integrator = "volpath";
-    d.render.spp = 7;
-    d.render.timeBudget_s = 0;
-    d.render.targetRelativeError = 0;
-    d.render.seed = 123456789012345ULL;
     d.render.channels = {1};
     d.render.channelSampling = ChannelSampling::Spectral;
     d.render.majorants = Majorants::Global;
@@ -138,6 +133,7 @@ TEST(SceneFiles, WrittenScenesReadBackTheSame) {
             ASSERT_EQ(setOption(p, options, other), "") << p.name;
         }
     };
+    moveAll(renderParameters(), d.render);
     moveAll(volPathParameters(), d.render.volpath);
     moveAll(lightTraceParameters(), d.render.lighttrace);
     moveAll(printPtParameters(), d.render.printpt);

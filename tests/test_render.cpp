@@ -32,7 +32,7 @@ Scene furnaceScene(float ior, RGB environment) {
 void expectFurnace(const Scene& scene, const Sensor& sensor, bool reentry) {
     RenderSettings settings;
     settings.spp = 8;
-    settings.volpath.reentry = reentry;
+    settings.reentry = reentry;
     settings.channelSampling = ChannelSampling::Separate;
     RenderResult r = render(scene, sensor, settings);
     for (size_t p = 0; p < sensor.pixelCount(); ++p)
