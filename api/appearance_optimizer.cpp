@@ -240,8 +240,8 @@ struct LoopGoal {
 // and over three, and the variance per CIELAB component of its noise at
 // both scales, over the object (one draw of it per voxel).
 struct SeenPrediction {
-    std::vector<RGB> predicted, seen, seenMoved;  // seenMoved: seen, moved by one draw of the noise
-    std::vector<Lab> seenLab, nowWide;
+    std::vector<RGB> predicted, overFootprint, overFootprintMoved;  // the last: moved by one draw of the noise
+    std::vector<Lab> overFootprintLab, wideLab;
     double noiseVariance = 0, noiseVarianceWide = 0;
 };
 
@@ -252,14 +252,14 @@ SeenPrediction seePrediction(const SurfacePrediction& p, const RGB& environment,
     const std::vector<RGB> moved =
         noisy ? movedByNoise(s.predicted, reflectance(p.standardError, environment), 1) : s.predicted;
     std::vector<std::vector<RGB>> filtered = goal.eye.apply(std::vector<const std::vector<RGB>*>{&s.predicted, &moved});
-    s.seen = std::move(filtered[0]);
-    s.seenMoved = std::move(filtered[1]);
-    s.seenLab = labsOf(s.seen);
-    s.nowWide = labsOf(goal.wide.apply(s.predicted));
+    s.overFootprint = std::move(filtered[0]);
+    s.overFootprintMoved = std::move(filtered[1]);
+    s.overFootprintLab = labsOf(s.overFootprint);
+    s.wideLab = labsOf(goal.wide.apply(s.predicted));
     if (noisy) {
-        const std::vector<Lab> drawn = labsOf(s.seenMoved), drawnWide = labsOf(goal.wide.apply(moved));
+        const std::vector<Lab> drawn = labsOf(s.overFootprintMoved), drawnWide = labsOf(goal.wide.apply(moved));
         for (size_t i = 0; i < n; ++i) {
-            const LabVector d = difference(drawn[i], s.seenLab[i]), w = difference(drawnWide[i], s.nowWide[i]);
+            const LabVector d = difference(drawn[i], s.overFootprintLab[i]), w = difference(drawnWide[i], s.wideLab[i]);
             s.noiseVariance += dot(d, d);
             s.noiseVarianceWide += dot(w, w);
         }
@@ -274,14 +274,14 @@ SeenPrediction seePrediction(const SurfacePrediction& p, const RGB& environment,
 void scoreIteration(const SeenPrediction& s, const LoopGoal& goal, const std::vector<RGB>& mapped, bool noisy,
                     OptimizeIteration& it) {
     const size_t n = s.predicted.size();
-    const DeltaEStats overFootprint = deltaEStats(s.seen, goal.mappedSeen), raw = deltaEStats(s.predicted, mapped);
+    const DeltaEStats overFootprint = deltaEStats(s.overFootprint, goal.mappedSeen), raw = deltaEStats(s.predicted, mapped);
     it.meanDeltaE = overFootprint.mean;
     it.p95DeltaE = overFootprint.p95;
     it.meanDeltaEPerVoxel = raw.mean;
     it.p95DeltaEPerVoxel = raw.p95;
-    if (noisy) it.noiseDeltaE = deltaEStats(s.seenMoved, s.seen).mean;
+    if (noisy) it.noiseDeltaE = deltaEStats(s.overFootprintMoved, s.overFootprint).mean;
     double wideSum = 0;
-    for (size_t i = 0; i < n; ++i) wideSum += ciede2000(s.nowWide[i], goal.goalWide[i]);
+    for (size_t i = 0; i < n; ++i) wideSum += ciede2000(s.wideLab[i], goal.goalWide[i]);
     it.meanDeltaEWide = wideSum / double(n);
 }
 
@@ -310,7 +310,7 @@ public:
         tbb::parallel_for(size_t(0), n, [&](size_t i) {
             const Lab r{requestWide[i][0], requestWide[i][1], requestWide[i][2]};
             if (iteration >= 2) {
-                const LabVector dR = difference(r, previousRequest_[i]), dP = difference(s.nowWide[i], previousSeen_[i]);
+                const LabVector dR = difference(r, previousRequest_[i]), dP = difference(s.wideLab[i], previousSeen_[i]);
                 // Only moves well above the prediction's noise measure a
                 // gain (the wide prediction's: the request's move is
                 // mostly the wide error's).
@@ -318,11 +318,11 @@ public:
                     gain_[i] = float(std::clamp(0.5 * gain_[i] + 0.5 * (dot(dP, dR) / dot(dR, dR)), 0.5, 2.5));
             }
             previousRequest_[i] = r;
-            previousSeen_[i] = s.nowWide[i];
+            previousSeen_[i] = s.wideLab[i];
             // The error: its wide part, plus the footprint's detail shrunk
             // by James-Stein's positive-part rule against the predictions'
             // noise (detail the size of the noise barely moves).
-            const LabVector errWide = difference(goal.goalWide[i], s.nowWide[i]), errEye = difference(goal.goal[i], now[i]);
+            const LabVector errWide = difference(goal.goalWide[i], s.wideLab[i]), errEye = difference(goal.goal[i], now[i]);
             const LabVector detail{errEye[0] - errWide[0], errEye[1] - errWide[1], errEye[2] - errWide[2]};
             const double detailSq = dot(detail, detail);
             const double shrink = detailSq > 0 ? std::max(0.0, 1.0 - s.noiseVariance / detailSq) : 0.0;
@@ -438,32 +438,32 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const VoxelIntGrid owner = shellOwners(predictor.labels(), p.voxels, settings.shellDepth_mm);
     LoopGoal goal(predictor.surfacePoints_mm(), settings);
 
-    MappedTargets t = mapTargets(gamut, targets, settings.gamutMap);
-    result.mappingLoss = surfaceColourError(goal.eye, t.mapped, t.given);
-    result.targetSeen = goal.eye.apply(t.given);
-    goal.aimAt(t.mapped);
+    MappedTargets aim = mapTargets(gamut, targets, settings.gamutMap);
+    result.mappingLoss = surfaceColourError(goal.eye, aim.mapped, aim.given);
+    result.targetSeen = goal.eye.apply(aim.given);
+    goal.aimAt(aim.mapped);
     result.mappedSeen = goal.mappedSeen;
 
     RequestSteps steps(n);
-    std::vector<MaterialFractions> bestMixture = t.mixture;
+    std::vector<MaterialFractions> bestMixture = aim.mixture;
     double bestScore = 0;
     int raisedAt = 0;  // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
         const bool noisy = !capabilitiesOf(predictor.settings()).deterministic;
-        const SeenPrediction seen = seePrediction(p, environment, noisy, goal);
+        const SeenPrediction now = seePrediction(p, environment, noisy, goal);
         OptimizeIteration it;
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
         it.spp = predictor.settings().spp;
-        scoreIteration(seen, goal, t.mapped, noisy, it);
+        scoreIteration(now, goal, aim.mapped, noisy, it);
         // A new best only if it beats the last by a margin, on the wide
         // score: at the footprint the predictions' noise dominates the score
         // and hides what the loop still changes.
         if (iteration == 0 || it.meanDeltaEWide < bestScore - std::max(0.02 * bestScore, 0.02)) {
             bestScore = it.meanDeltaEWide;
             result.bestIteration = iteration;
-            bestMixture = t.mixture;
-            result.predictedSeen = seen.seen;
+            bestMixture = aim.mixture;
+            result.predictedSeen = now.overFootprint;
         }
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
         const double elapsed = std::chrono::duration<double>(Clock::now() - loopStart).count();
@@ -480,13 +480,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         }
         // Move the requests (the mapped targets' own mixtures are printed first).
         if (iteration > 0) {
-            const std::vector<Lab> now = settings.updateFootprint_mm == kEyeFootprint_mm
-                                             ? seen.seenLab
-                                             : labsOf(goal.updateFiltered(seen.predicted));
-            steps.move(iteration, seen, now, goal, gamut, settings.step, t.request, t.mixture);
+            const std::vector<Lab> nowOverUpdate = settings.updateFootprint_mm == kEyeFootprint_mm
+                                                       ? now.overFootprintLab
+                                                       : labsOf(goal.updateFiltered(now.predicted));
+            steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
         }
-        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, t.mixture);
+        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -511,7 +511,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         restoreBestLabels(predictor, given, owner, result.bestIteration, bestMixture);
     if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        result.judgement = judgePrint(predictor, settings, judge, goal.eye, t.mapped, environment);
+        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.mapped, environment);
     }
     return result;
 }

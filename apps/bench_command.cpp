@@ -461,7 +461,7 @@ struct Measurement {
     std::optional<std::string> referenceFile;  // none: self-variance
     RadianceImage reference;
     double referenceVariance = 0;  // its mean squared standard error per pixel channel
-    std::vector<double> budgets;   // seconds
+    std::vector<double> budgets_s;  // each render's time budget
     double target = 0.02;          // the whole-object median relative error (timeToTarget)
     bool self() const { return !referenceFile; }
 };
@@ -487,11 +487,11 @@ Measurement measurementOf(const Arguments& args, const Sensor& sensor) {
     }
     for (const std::string& b : splitList(args.value("--budgets").value_or("1,2,4,8"))) {
         try {
-            m.budgets.push_back(std::stod(b));
+            m.budgets_s.push_back(std::stod(b));
         } catch (const std::exception&) {
             throw UsageError("--budgets takes seconds, e.g. 1,2,4,8");
         }
-        if (!(m.budgets.back() > 0)) throw UsageError("--budgets must be positive");
+        if (!(m.budgets_s.back() > 0)) throw UsageError("--budgets must be positive");
     }
     if (auto t = args.value("--target-relative-error")) {
         try {
@@ -541,8 +541,8 @@ Measured measure(const Scene& scene, const Sensor& sensor, const ChosenConfigura
         s.seed = 1;
         const bool fixedSpp = self && args.has("--spp");
         double perSpp = fixedSpp ? 1.0 : render(scene, sensor, s, acrossRanks).seconds;  // calibration
-        for (double budget : m.budgets) {
-            if (fixedSpp && budget != m.budgets.front()) break;  // one render: the spp is fixed
+        for (double budget : m.budgets_s) {
+            if (fixedSpp && budget != m.budgets_s.front()) break;  // one render: the spp is fixed
             s.spp = samplesFor(s, budget, perSpp, args, self, selfSpp, acrossRanks);
             s.seed += 1;
             RenderResult r = render(scene, sensor, s, acrossRanks);
@@ -561,7 +561,7 @@ Measured measure(const Scene& scene, const Sensor& sensor, const ChosenConfigura
                 withinTwoErrors = sr.withinTwoErrors;
                 bias = sr.meanBias;
                 // The last budget's per-voxel error, where it fails (written with the tables).
-                if (budget == m.budgets.back())
+                if (budget == m.budgets_s.back())
                     out.errorMaps.emplace_back(
                         name, deltaEImage(colour->perVoxel, sr.imageIndex, m.reference.width, m.reference.height));
                 colour->perVoxel.clear();
@@ -669,7 +669,7 @@ int benchCommand(const std::vector<std::string>& argv) {
                     {"--self-variance", "", "the error from each render's own variance (no reference)"},
                     {"--error-check", "1,2,8", "whether the reported errors are honest at these spp (two seeds each)"},
                     kSeedOption,
-                    {"--budgets", "1,2,4,...", "sample budgets, in multiples of the scene's spp"},
+                    {"--budgets", "1,2,4,...", "time budgets in seconds: each configuration renders the samples that fit"},
                     {"--configs", "A,B,...", "estimator configurations (default volpath,printpt)"},
                     kSppOption,
                     integratorOption(),

@@ -127,11 +127,11 @@ PixelResults surfaceResultsOf(const Film& film) {
 
 // The render's result on rank 0, as its images are written: a progressive
 // render writes them after every round, a render in one go once its film
-// is let go (the caller's). `stopped` says what ended it.
+// is let go (the caller's).
 struct Rendered {
     RenderResult result;
     uint32_t spp = 0;
-    std::string stopped;
+    std::string runNote;  // for the summary: what stopped a progressive render, the MPI ranks
     std::optional<RadianceImage> image;  // not yet written
 };
 
@@ -185,7 +185,7 @@ int renderCommand(const std::vector<std::string>& argv) {
         char line[160];
         std::snprintf(line, sizeof line, ", stopped by %s at %u spp, median relative error %.3g", p.stoppedBy.c_str(),
                       p.spp, p.medianRelativeError);
-        done.stopped = line;
+        done.runNote = line;
     } else {
         done.result = render(scene, *sensor, desc.render, acrossRanks);
         if (rank != 0) return 0;
@@ -193,7 +193,7 @@ int renderCommand(const std::vector<std::string>& argv) {
         done.image = imageOf(done.result, done.spp);
     }
     RenderResult& result = done.result;
-    if (acrossRanks) done.stopped += ranksSummary(result, ranks);
+    if (acrossRanks) done.runNote += ranksSummary(result, ranks);
     const std::string controls = controlSummary(result);  // before the film is let go (below)
     // The film's means and errors for the surface's outputs; then the film
     // is let go before the image, the result grid and the prediction on
@@ -230,7 +230,7 @@ int renderCommand(const std::vector<std::string>& argv) {
                 "%s paths/s, %s scattering events/s%s%s%s, %d thread(s) -> %s\n",
                 s, secondsSince(t0), withThousands(samples).c_str(), withThousands(pixelCount).c_str(), done.spp,
                 desc.render.channels.size(), siRate(result.stats.paths / s).c_str(),
-                siRate(result.stats.scatterEvents / s).c_str(), balls, controls.c_str(), done.stopped.c_str(),
+                siRate(result.stats.scatterEvents / s).c_str(), balls, controls.c_str(), done.runNote.c_str(),
                 threads.count, outputs.writtenText().c_str());
     return 0;
 }

@@ -177,10 +177,6 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& sensor, const RenderSettings&,
-                                              std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<Diffusion>(scene, sensor);
-}
 
 namespace {
 
@@ -223,7 +219,7 @@ struct ColumnSegment {
     double weight;
 };
 
-// The labels down the column under surface point `e.p` along -normal (to
+// The labels down the column under surface point p along -normal (to
 // the object's far side or kColumnDepth_mm), with their weights; returns
 // how many segments carry weight (past the first below e^{-z /
 // kSurfaceLayer_mm} = 1e-3 the rest weighs less than 0.1 %).
@@ -267,7 +263,7 @@ double singleScatteringOf(const std::vector<ColumnSegment>& column, const Channe
 // by e^{-z / kSurfaceLayer_mm} down the column, and the multiple-scattering
 // table of the nearest g.
 void setEffectiveMedium(const std::vector<ColumnSegment>& column, size_t weighted, const ChannelLut& lut,
-                        const LabelProfiles& profiles, int c, Element& e) {
+                        const LabelProfiles& profiles, int channel, Element& e) {
     double w = 0, wt = 0, ws = 0, wg = 0;
     for (size_t k = 0; k < weighted; ++k) {
         const ColumnSegment& s = column[k];
@@ -279,14 +275,14 @@ void setEffectiveMedium(const std::vector<ColumnSegment>& column, size_t weighte
     }
     const float sigmaT = w > 0 ? float(wt / w) : 0.0f, sigmaS = w > 0 ? float(ws / w) : 0.0f;
     const float g = ws > 0 ? float(wg / ws) : 0.0f;
-    e.sigmaT_perMm[c] = sigmaT;
-    e.sigmaS_perMm[c] = sigmaS;
+    e.sigmaT_perMm[channel] = sigmaT;
+    e.sigmaS_perMm[channel] = sigmaS;
     float nearest = 1e30f;
     const std::vector<ProfileTables>& tables = profiles.tables;
     for (size_t t = 0; t < tables.size(); ++t)
         if (tables[t].multiple && std::abs(float(tables[t].g) - g) < nearest) {
             nearest = std::abs(float(tables[t].g) - g);
-            e.table[c] = uint16_t(t);
+            e.table[channel] = uint16_t(t);
         }
 }
 
@@ -354,6 +350,11 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse
             errorBound_[i][c] = kErrorShareOfMultipleScattering * multiple_[i][c];
         }
     coverElementsOverClearResin();
+}
+
+std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& sensor, const RenderSettings&,
+                                              std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Diffusion>(scene, sensor);
 }
 
 }  // namespace pl

@@ -94,7 +94,7 @@ RGB traceThreeChannels(const Scene& scene, ChannelSampling sampling, int hero, T
 
 // What an estimator declares of itself for a render's settings, before it
 // is made: the render driver, the scene loader and the memory check ask
-// this, never the estimator's name.
+// this rather than the estimator's name.
 struct IntegratorCapabilities {
     SceneNeeds needs;  // what the scene must load
     // It can take all three channels from one path (else a pass per channel).
@@ -150,8 +150,9 @@ public:
 };
 
 // The estimators that render each pixel sample with one camera path, alone
-// (volpath, printpt, the deterministic predictors): the render is the
-// driver's loop over tiles of pixels, samples in order.
+// (volpath, printpt, the deterministic predictors): render is one loop over
+// tiles of pixels, samples in order (integrator.cpp), which asks Li or
+// LiRGB for each sample.
 class PixelIntegrator : public Integrator {
 public:
     // Radiance arriving along -ray.d at ray.o (a point outside the object).

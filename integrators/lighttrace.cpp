@@ -78,7 +78,7 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       patches_(*sensor_.patches()),
       options_(options),
       volpathOptions_(volpath),
-      volpath_(scene, volpath),
+      volpath_(scene, volpath, /*reentry=*/false),  // lighttrace refuses re-entry
       printpt_(scene, printpt, seed, std::move(controlMeans)),
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)) {
@@ -496,7 +496,7 @@ void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weig
             if (keep > 0.0f && rng.uniform() < keep) score(y, r.d, label, pointWeight / keep, p, *roulette);
         }
     };
-    walkVolume(scene_, volpathOptions_, false, ray, path, medium, rng, stats, onFlight, onCollision);
+    walkVolume(scene_, volpathOptions_, /*reentry=*/false, ray, path, medium, rng, stats, onFlight, onCollision);
     tally.endParticle();
 }
 

@@ -3,7 +3,7 @@
 // (docs/architecture.md, "Light tracing into the surface-voxel sensor").
 // A patch's value, the radiance leaving it along its normal averaged over
 // it, is split in two:
-//  - the camera side (Li): the environment reflected at the surface, and
+//  - the camera side (cameraSide): the environment reflected at the surface, and
 //    the light that reaches the patch along its inward normal line's first
 //    segment without scattering on it (through the segment's far boundary);
 //  - the light side (scoreLightBlock): light scattered last on that

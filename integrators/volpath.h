@@ -21,7 +21,7 @@ public:
     static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
                                               std::shared_ptr<HalfSpaceMeans> controlMeans);
     // reentry: trace light that leaves the object back against it.
-    VolPath(const Scene& scene, VolPathOptions options, bool reentry = false)
+    VolPath(const Scene& scene, VolPathOptions options, bool reentry)
         : scene_(scene), options_(options), reentry_(reentry) {}
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

@@ -11,8 +11,8 @@
 namespace pl {
 
 namespace {
-std::vector<IntegratorKind>& kinds() {
-    static std::vector<IntegratorKind> all = {
+std::deque<IntegratorKind>& kinds() {
+    static std::deque<IntegratorKind> all = {
         {"volpath", factoryOf<VolPath>()},
         {"printpt", factoryOf<PrintPt>()},
         {"lighttrace", factoryOf<LightTrace>()},
@@ -23,7 +23,7 @@ std::vector<IntegratorKind>& kinds() {
 }
 }  // namespace
 
-const std::vector<IntegratorKind>& integratorKinds() { return kinds(); }
+const std::deque<IntegratorKind>& integratorKinds() { return kinds(); }
 
 void registerIntegrator(const IntegratorKind& kind) {
     if (findIntegratorKind(kind.name))

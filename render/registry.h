@@ -2,10 +2,11 @@
 // is a name and the estimator's factory, read from the class's own static
 // members (integrators/integrator.h): what it declares for a render's
 // settings, why it refuses some, and how it is made. Adding an integrator
-// is its own file pair and one line in integratorKinds() (registry.cpp);
+// is its own file pair and one line in the list in registry.cpp;
 // docs/architecture.md, "Adding an integrator".
 #pragma once
 
+#include <deque>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,7 +36,8 @@ struct IntegratorKind {
     IntegratorFactory factory;
 };
 
-const std::vector<IntegratorKind>& integratorKinds();
+// A deque: the kinds stay where they are when one is registered.
+const std::deque<IntegratorKind>& integratorKinds();
 // Adds a kind after the built-in ones (an estimator outside the library,
 // e.g. a test's); its name must be new.
 void registerIntegrator(const IntegratorKind& kind);

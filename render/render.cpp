@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -11,7 +10,6 @@
 #include "render/registry.h"
 #include "runtime/interrupt.h"
 #include "runtime/progress.h"
-#include "runtime/scheduler.h"
 
 namespace pl {
 

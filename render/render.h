@@ -1,7 +1,9 @@
-// The render driver: runs an integrator for every sensor pixel, sample and
-// channel on the tile scheduler, and accumulates a Film. All three channels
-// come from one path per sample unless channelSampling is Separate (or the
-// render asks for fewer channels): then one pass per channel.
+// The render driver: makes the integrator, opens the film's channels, has
+// the integrator render each pass (Integrator::render) and settles each
+// channel as its pass ends; across MPI ranks it shares out the pixels and
+// gathers the film. All three channels come from one path per sample
+// unless channelSampling is Separate (or the render asks for fewer
+// channels, or the integrator cannot): then one pass per channel.
 #pragma once
 
 #include <memory>
