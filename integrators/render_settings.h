@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/option_table.h"
+#include "integrators/bre.h"
 #include "integrators/lighttrace.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
@@ -36,6 +37,7 @@ struct RenderSettings {
     VolPathOptions volpath;
     PrintPtOptions printpt;
     LightTraceOptions lighttrace;
+    BreOptions bre;
     // The learned predictor's model (io/learned_model_io.h): by default the
     // one beside the scene's material table.
     std::filesystem::path learnedModel;

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "integrators/bre.h"
 #include "integrators/diffusion.h"
 #include "integrators/learned.h"
 #include "integrators/lighttrace.h"
@@ -18,6 +19,7 @@ std::deque<IntegratorKind>& kinds() {
         {"lighttrace", factoryOf<LightTrace>()},
         {"diffusion", factoryOf<Diffusion>()},
         {"learned", factoryOf<Learned>()},
+        {"bre", factoryOf<Bre>()},
     };
     return all;
 }

@@ -48,9 +48,10 @@ TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     expectDeclaredOnceAndDocumented(volPathParameters(), names, doc);
     expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
     expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
+    expectDeclaredOnceAndDocumented(breParameters(), names, doc);
     // One render block: no key in two tables.
     EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
-                                printPtParameters().size());
+                                printPtParameters().size() + breParameters().size());
 }
 
 }  // namespace

@@ -60,6 +60,7 @@ void expectSameScene(const SceneDescription& a, const SceneDescription& b) {
     expectSameOptions(volPathParameters(), ra.volpath, rb.volpath);
     expectSameOptions(lightTraceParameters(), ra.lighttrace, rb.lighttrace);
     expectSameOptions(printPtParameters(), ra.printpt, rb.printpt);
+    expectSameOptions(breParameters(), ra.bre, rb.bre);
     EXPECT_EQ(a.output, b.output);
 }
 
@@ -101,6 +102,7 @@ TEST(SceneFiles, WrittenScenesReadBackTheSame) {
     moveAll(volPathParameters(), d.render.volpath);
     moveAll(lightTraceParameters(), d.render.lighttrace);
     moveAll(printPtParameters(), d.render.printpt);
+    moveAll(breParameters(), d.render.bre);
     d.output = "out/elsewhere";
     writeScene(d, dir / "every_key.json");
     expectSameScene(d, parseScene(dir / "every_key.json"));

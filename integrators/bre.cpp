@@ -1,0 +1,313 @@
+#include "integrators/bre.h"
+
+#include <tbb/parallel_sort.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+
+#include "core/fresnel.h"
+#include "core/sampling.h"
+#include "integrators/render_settings.h"
+#include "integrators/volume_walk.h"
+#include "media/dda.h"
+#include "runtime/interrupt.h"
+#include "runtime/memory_budget.h"
+#include "runtime/scheduler.h"
+
+namespace pl {
+
+const std::vector<OptionParameter<BreOptions>>& breParameters() {
+    using O = BreOptions;
+    static const std::vector<OptionParameter<O>> parameters = {
+        {"bre_photons_per_pixel", &O::photonsPerPixel, 0, 1e6, true, "must be in (0, 1e6]",
+         "bre: photons traced per iteration (sample) for each sensor pixel"},
+        {"bre_radius_voxels", &O::radius_voxels, 0, 100, true, "must be in (0, 100] (voxel sides)",
+         "bre: the first iteration's kernel radius, in the smallest voxel side"},
+        {"bre_alpha", &O::alpha, 0, 1, true, "must be in (0, 1]",
+         "bre: r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1); 1 keeps the radius"},
+    };
+    return parameters;
+}
+
+namespace {
+// Where the light left along a query has fallen below 1 %, the photons
+// beyond are left out (Brecka 2021, 3.7.2).
+constexpr float kCutOffOpticalDepth = 4.6051702f;  // ln 100
+// Straight segments a query follows inside (each internal reflection
+// starts one) before it stops; the weight left by then is F^16 at most.
+constexpr int kMostSegments = 16;
+// Bytes a photon takes while its iteration's map is built (the photon and
+// its sort key and index).
+constexpr uint64_t kPhotonBytes = sizeof(PhotonMap::Photon) + 16;
+// Cells per axis a map's keys can tell apart.
+constexpr int64_t kCellsPerAxis = int64_t(1) << 21;
+}  // namespace
+
+PhotonMap::PhotonMap(std::vector<Photon> photons, float radius_mm) : radius_mm_(radius_mm) {
+    Point3f lo{1e30f, 1e30f, 1e30f};
+    for (const Photon& ph : photons)
+        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], ph.p[a]);
+    origin_mm_ = photons.empty() ? Point3f{0, 0, 0} : lo;
+    // Sorted by (cell, index): one order whatever the threads.
+    std::vector<std::pair<uint64_t, uint32_t>> order(photons.size());
+    for (size_t i = 0; i < photons.size(); ++i) order[i] = {keyOf(cellOf(photons[i].p)), uint32_t(i)};
+    tbb::parallel_sort(order.begin(), order.end());
+    photons_.resize(photons.size());
+    for (size_t i = 0; i < order.size(); ++i) {
+        photons_[i] = photons[order[i].second];
+        if (i == 0 || order[i].first != order[i - 1].first) {
+            keys_.push_back(order[i].first);
+            starts_.push_back(uint32_t(i));
+        }
+    }
+    starts_.push_back(uint32_t(photons_.size()));
+}
+
+Vec3i PhotonMap::cellOf(const Point3f& p) const {
+    const Vec3f q = (p - origin_mm_) * (1.0f / radius_mm_);
+    return {int(std::floor(q.x)), int(std::floor(q.y)), int(std::floor(q.z))};
+}
+
+uint64_t PhotonMap::keyOf(const Vec3i& cell) const {
+    for (int a = 0; a < 3; ++a)
+        if (cell[a] < 0 || cell[a] >= kCellsPerAxis) return ~uint64_t(0);  // holds no photon
+    return (uint64_t(cell.x) << 42) | (uint64_t(cell.y) << 21) | uint64_t(cell.z);
+}
+
+void PhotonMap::cellsNear(const Ray& ray, float tMax_mm, std::vector<uint64_t>& keys) const {
+    keys.clear();
+    if (photons_.empty()) return;
+    // The segment in cell units (t stays in millimetres), walked cell by
+    // cell inside the box of its ends, one cell wider.
+    const float inv = 1.0f / radius_mm_;
+    const Vec3f o = (ray.o - origin_mm_) * inv, d = ray.d * inv;
+    const Vec3f e = o + d * tMax_mm;
+    Vec3i lo, hi;
+    for (int a = 0; a < 3; ++a) {
+        lo[a] = int(std::floor(std::min(o[a], e[a]))) - 1;
+        hi[a] = int(std::floor(std::max(o[a], e[a]))) + 2;
+    }
+    GridDda dda(o, d, 0.0f, tMax_mm, lo, hi);
+    DdaSegment segment;
+    while (dda.next(segment))
+        for (int z = -1; z <= 1; ++z)
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x) {
+                    const uint64_t key = keyOf(segment.cell + Vec3i{x, y, z});
+                    if (key != ~uint64_t(0)) keys.push_back(key);
+                }
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+}
+
+template <class F>
+void PhotonMap::forEachNear(const Ray& ray, float tMax_mm, F&& f) const {
+    thread_local std::vector<uint64_t> keys;
+    cellsNear(ray, tMax_mm, keys);
+    auto from = keys_.begin();
+    for (uint64_t key : keys) {
+        from = std::lower_bound(from, keys_.end(), key);
+        if (from == keys_.end()) return;
+        if (*from != key) continue;
+        const size_t k = size_t(from - keys_.begin());
+        for (uint32_t i = starts_[k]; i < starts_[k + 1]; ++i) f(photons_[i]);
+    }
+}
+
+Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed)
+    : scene_(scene),
+      pixelCount_(sensor.pixelCount()),
+      options_(options),
+      majorants_(majorants),
+      photonSeed_(mix64(seed ^ 0x62726550ULL)) {
+    const TriangleMesh& mesh = scene.geometry->mesh();
+    areaCdf_mm2_.reserve(mesh.triangleCount());
+    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+        meshArea_mm2_ += mesh.triangleArea_mm2(t);
+        areaCdf_mm2_.push_back(meshArea_mm2_);
+    }
+    const Vec3f v = scene.medium->frame().voxelSize_mm;
+    smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
+    const uint64_t photons = uint64_t(std::ceil(double(options.photonsPerPixel) * double(pixelCount_)));
+    if (auto why = memoryShortfall(photons * kPhotonBytes, std::to_string(photons) + " photons an iteration",
+                                   memoryInUseBytes()))
+        throw std::runtime_error("bre: " + *why);
+}
+
+IntegratorCapabilities Bre::capabilities(const RenderSettings&) {
+    IntegratorCapabilities c;
+    c.needs = {false, true};  // volpath's walk looks for the clearance first
+    c.lightPathsServeEveryPixel = true;
+    return c;
+}
+
+std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+                                        std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Bre>(scene, sensor, s.bre, s.majorants, s.seed);
+}
+
+float Bre::radiusAt_mm(uint32_t iteration) const {
+    double r2 = 1.0;
+    for (uint32_t j = 1; j < iteration; ++j) r2 *= (double(j) + options_.alpha) / double(j + 1);
+    return float(double(options_.radius_voxels * smallestVoxel_mm_) * std::sqrt(r2));
+}
+
+SurfaceHit Bre::entryOnMesh(Rng& rng) const {
+    const double pick = double(rng.uniform()) * meshArea_mm2_;
+    const uint32_t prim = uint32_t(std::min<size_t>(
+        std::upper_bound(areaCdf_mm2_.begin(), areaCdf_mm2_.end(), pick) - areaCdf_mm2_.begin(), areaCdf_mm2_.size() - 1));
+    const float u0 = rng.uniform(), u1 = rng.uniform();
+    const TriangleSample b = sampleUniformTriangle(u0, u1);
+    return scene_.geometry->pointOn(prim, b.b1, b.b2);
+}
+
+PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    const float Le = scene_.environment[channel];
+    const uint64_t count = std::max<uint64_t>(1, uint64_t(std::llround(double(options_.photonsPerPixel) * double(pixelCount_))));
+    // Each photon carries the power the environment sends into the object
+    // (Le pi A) over the count; cosine-weighted directions cancel the pi.
+    const double power = double(Le) * kPi * meshArea_mm2_ / double(count);
+    std::vector<std::vector<PhotonMap::Photon>> parts(kParts);
+    std::vector<PathStats> partStats(kParts);
+    if (Le > 0.0f)
+        parallelForTiles(kParts, 1, [&](size_t begin, size_t end) {
+            LabelMedium::Tracker medium(*scene_.medium, majorants_);
+            for (size_t part = begin; part < end; ++part)
+                for (uint64_t i = count * part / kParts; i < count * (part + 1) / kParts; ++i) {
+                    if (interruptRequested()) return;
+                    Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
+                    const SurfaceHit entry = entryOnMesh(rng);
+                    const float w0 = rng.uniform(), w1 = rng.uniform();
+                    const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
+                    SingleChannelPath path{&lut, channel, Le};
+                    path.beta = 1.0f - fresnelDielectric(-dot(d, entry.ns), scene_.ior);
+                    if (!(path.beta > 0.0f)) continue;
+                    const Ray ray = enteringRay(scene_, Ray{entry.p - d, d}, entry);
+                    std::vector<PhotonMap::Photon>& stored = parts[part];
+                    auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
+                        stored.push_back({y, dIn, float(power * double(p.beta)), label});
+                    };
+                    walkVolume(scene_, VolPathOptions{}, /*reentry=*/false, ray, path, medium, rng, partStats[part],
+                               [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
+                }
+        });
+    std::vector<PhotonMap::Photon> photons;
+    size_t total = 0;
+    for (const auto& part : parts) total += part.size();
+    photons.reserve(total);
+    for (size_t part = 0; part < kParts; ++part) {
+        photons.insert(photons.end(), parts[part].begin(), parts[part].end());
+        stats += partStats[part];
+    }
+    return PhotonMap(std::move(photons), radiusAt_mm(sample + 1));
+}
+
+Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, float tEnd_mm, int channel,
+                                      LabelMedium::Tracker& medium) const {
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    // The optical depth along the segment: constant over each voxel it
+    // crosses (regular tracking), cut where the light left falls below 1 %.
+    struct Piece {
+        float t0, t1;
+        double tau0;  // optical depth at t0
+        float sigmaT;
+    };
+    thread_local std::vector<Piece> pieces;
+    pieces.clear();
+    const GridFrame& frame = scene_.medium->frame();
+    const CellRay cells = scene_.medium->toCellRay(ray);
+    GridDda dda(cells.o, cells.d, 0.0f, tEnd_mm, frame.indexMin, frame.indexMax());
+    DdaSegment segment;
+    double tau = 0;
+    float tCut = tEnd_mm;
+    bool cut = false;
+    while (dda.next(segment)) {
+        const float sigmaT = lut.sigmaT_perMm[medium.labelAt(segment.cell)];
+        pieces.push_back({segment.t0, segment.t1, tau, sigmaT});
+        const double after = tau + double(sigmaT) * (segment.t1 - segment.t0);
+        if (after > kCutOffOpticalDepth) {
+            tCut = segment.t0 + float((kCutOffOpticalDepth - tau) / double(sigmaT));
+            cut = true;
+            break;
+        }
+        tau = after;
+    }
+    auto transmittanceTo = [&](float t) {
+        auto after = std::upper_bound(pieces.begin(), pieces.end(), t, [](float x, const Piece& p) { return x < p.t0; });
+        if (after == pieces.begin()) return 1.0;
+        const Piece& p = *(after - 1);
+        return std::exp(-(p.tau0 + double(p.sigmaT) * (std::min(t, p.t1) - p.t0)));
+    };
+    const float r2 = map.radius_mm() * map.radius_mm();
+    const double kernelScale = 3.0 / (kPi * double(r2));  // Silverman's biweight, unit integral over the disc
+    double sum = 0;
+    map.forEachNear(ray, tCut, [&](const PhotonMap::Photon& ph) {
+        const Vec3f v = ph.p - ray.o;
+        const float t = dot(v, ray.d);
+        if (t < 0.0f || t > tCut) return;
+        const float d2 = dot(v, v) - t * t;
+        if (!(d2 < r2)) return;
+        const double k = kernelScale * std::pow(1.0 - double(d2) / r2, 2.0);
+        sum += k * transmittanceTo(t) * hgPhase(dot(ph.dIn, -ray.d), lut.g[ph.label]) * double(ph.power);
+    });
+    return {sum, cut ? 0.0f : float(std::exp(-tau))};
+}
+
+float Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const {
+    const Geometry& geometry = *scene_.geometry;
+    const float Le = scene_.environment[channel];
+    const std::optional<SurfaceHit> entry = geometry.intersect(cameraRay);
+    if (!entry) return Le;
+    const Vec3f n = dot(cameraRay.d, entry->ng) < 0 ? entry->ns : -entry->ns;
+    const float F = fresnelDielectric(-dot(cameraRay.d, n), scene_.ior);
+    double L = double(F) * Le;
+    // The radiance inside, in the path tracers' unit: over n^2.
+    const double insideToOutside = 1.0 / (double(scene_.ior) * scene_.ior);
+    double beta = 1.0 - F;
+    Ray ray = enteringRay(scene_, cameraRay, *entry);
+    for (int segment = 0; segment < kMostSegments && beta > 1e-6; ++segment) {
+        const std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
+        if (!exit) break;  // a numerical leak
+        const SegmentGather g = gatherSegment(map, ray, exit->t, channel, medium);
+        L += beta * g.radiance * insideToOutside;
+        if (!(g.transmittance > 0.0f)) break;
+        // The environment straight through the far side, and the rest
+        // reflected back inside.
+        const float Ffar = fresnelDielectric(std::abs(dot(ray.d, exit->ns)), 1.0f / scene_.ior);
+        L += beta * g.transmittance * (1.0f - Ffar) * Le;
+        beta *= double(g.transmittance) * Ffar;
+        ray = reflectedInside(geometry, ray.d, *exit);
+    }
+    return float(L);
+}
+
+void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
+    if (pass.channel < 0) throw std::logic_error("bre renders one channel per pass");
+    const PixelShare& share = pass.share;
+    const size_t n = share.size(pass.sensor.pixelCount());
+    std::mutex statsMutex;
+    for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
+        const PhotonMap map = tracePhotons(pass.channel, s, stats);
+        parallelForTiles(n, 64, [&](size_t begin, size_t end) {
+            LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
+            PathStats tileStats;
+            for (size_t i = begin; i < end; ++i) {
+                if (interruptRequested()) return;
+                const size_t p = share.pixel(i);
+                Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
+                const float u0 = rng.uniform(), u1 = rng.uniform();
+                const float value = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
+                film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
+                ++tileStats.paths;
+            }
+            progress.advance(end - begin);
+            std::lock_guard<std::mutex> lock(statsMutex);
+            stats += tileStats;
+        });
+    }
+}
+
+}  // namespace pl

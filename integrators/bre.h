@@ -1,0 +1,122 @@
+// bre: progressive photon mapping with the beam radiance estimate (Jarosz
+// et al. 2008; Brecka 2021, 3.7.2) in heterogeneous label media, for any
+// sensor. Each sample of a pass is one iteration (Knaus and Zwicker 2011):
+//  - a fresh set of photons enters from the environment, uniform by area
+//    over the mesh with cosine-weighted directions (each carries Le pi A /
+//    N, times the Fresnel transmission in), walks with volpath's walk and
+//    is stored at each real scattering event with its power after the
+//    albedo;
+//  - every pixel's camera ray takes the environment mirrored at its entry,
+//    refracts in and, along each straight segment inside (internal
+//    reflections followed with their Fresnel weight), gathers the photons
+//    within the iteration's radius of it: kernel x transmittance from the
+//    entry x phase function towards the camera x power, converted from the
+//    radiance inside to the path tracers' unit (1 / n^2); the environment
+//    that comes straight through is added by its transmittance.
+// Transmittance along a query comes from one regular-tracking pass over
+// the voxels (a vector of constant-density segments), cut where it falls
+// below 1 % (the photons beyond are left out, a small bias). The radius
+// shrinks as r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), so the bias vanishes
+// as iterations go on; a pixel's reported error is the spread of its
+// iterations, which does not see the remaining bias (bench against a
+// reference measures both). Separate channel passes only.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/option_table.h"
+#include "integrators/integrator.h"
+#include "integrators/volpath.h"
+
+namespace pl {
+
+struct BreOptions {
+    // Photons traced per iteration for each sensor pixel.
+    float photonsPerPixel = 4.0f;
+    // The first iteration's kernel radius, in the smallest voxel side.
+    float radius_voxels = 1.0f;
+    // How fast the radius shrinks (0 < alpha < 1: the bias and the variance
+    // both fall; near 1 the variance falls faster).
+    float alpha = 0.75f;
+};
+// Its options by their scene-file names (core/option_table.h).
+const std::vector<OptionParameter<BreOptions>>& breParameters();
+
+// The photons of one iteration in one channel, sorted by the cell of a
+// uniform grid whose side is the kernel radius: a query visits the cells
+// within one cell of the cells its segment crosses.
+class PhotonMap {
+public:
+    struct Photon {
+        Point3f p;
+        Vec3f dIn;     // propagation direction before the scattering
+        float power;   // after the albedo
+        Label label;   // where it scattered (its phase function)
+    };
+    PhotonMap(std::vector<Photon> photons, float radius_mm);
+    float radius_mm() const { return radius_mm_; }
+    size_t size() const { return photons_.size(); }
+    // Calls f(photon) for every photon within one cell of a cell that
+    // ray.at([0, tMax_mm]) crosses, each once, in a fixed order.
+    template <class F>
+    void forEachNear(const Ray& ray, float tMax_mm, F&& f) const;
+
+private:
+    uint64_t keyOf(const Vec3i& cell) const;
+    Vec3i cellOf(const Point3f& p) const;
+    void cellsNear(const Ray& ray, float tMax_mm, std::vector<uint64_t>& keys) const;
+    std::vector<Photon> photons_;   // sorted by cell key
+    std::vector<uint64_t> keys_;    // each distinct cell key, ascending
+    std::vector<uint32_t> starts_;  // where each key's photons start (one more at the end)
+    float radius_mm_;
+    Point3f origin_mm_;
+};
+
+class Bre : public Integrator {
+public:
+    Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed);
+
+    static IntegratorCapabilities capabilities(const RenderSettings& settings);
+    static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("bre", settings); }
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
+                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+
+    // Sample by sample, the iteration's photons, then every pixel's query.
+    void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const override;
+
+    // The kernel radius of iteration i (from 1).
+    float radiusAt_mm(uint32_t iteration) const;
+    // The photons of sample `sample` in a channel.
+    PhotonMap tracePhotons(int channel, uint32_t sample, PathStats& stats) const;
+    // The radiance arriving along -ray.d at ray.o, gathered from the map.
+    float gather(const PhotonMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium) const;
+
+    // Photons are traced in this many parts, each by one thread, and put
+    // together in part order: the same bits whatever the threads.
+    static constexpr size_t kParts = 64;
+
+private:
+    // The photons gathered along one straight segment inside, from its
+    // origin up to tEnd_mm, and the transmittance over the whole segment
+    // (0 where the 1 % cut-off fell short of it).
+    struct SegmentGather {
+        double radiance;  // inside the medium, in the photons' units
+        float transmittance;
+    };
+    SegmentGather gatherSegment(const PhotonMap& map, const Ray& ray, float tEnd_mm, int channel,
+                                LabelMedium::Tracker& medium) const;
+    SurfaceHit entryOnMesh(Rng& rng) const;
+
+    const Scene& scene_;
+    size_t pixelCount_;
+    BreOptions options_;
+    Majorants majorants_;
+    uint64_t photonSeed_;
+    std::vector<double> areaCdf_mm2_;
+    double meshArea_mm2_ = 0;
+    float smallestVoxel_mm_;
+};
+
+}  // namespace pl

@@ -1,0 +1,171 @@
+// bre (integrators/bre.h): the radius schedule, the white furnace, and
+// agreement with volpath on homogeneous boxes with and without a refractive
+// boundary, over the voxels in the middle of the faces (the kernel's disc
+// around a query along a face's normal lies parallel to the face: nothing
+// blurs across it there; at edges and corners the disc reaches past the
+// object, where no photons are, a bias that shrinks with the radius). The
+// object mean's error comes from the spread of the iterations' means (each
+// iteration its own photons).
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include "integrators/bre.h"
+#include "render/registry.h"
+#include "render_estimate.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+using test::material;
+
+const Vec3i kResolution{14, 12, 10};
+const Vec3f kVoxel_mm{0.05f, 0.04f, 0.06f};  // anisotropic on purpose
+
+// Surface voxels in the middle of a face: one coordinate on the box's side,
+// the others at least three voxels from its edges.
+bool inFaceMiddle(const Vec3i& v) {
+    int onSide = 0;
+    bool farFromEdges = true;
+    for (int a = 0; a < 3; ++a) {
+        const bool side = v[a] == 0 || v[a] == kResolution[a] - 1;
+        onSide += side;
+        if (!side) farFromEdges = farFromEdges && v[a] >= 3 && v[a] < kResolution[a] - 3;
+    }
+    return onSide == 1 && farFromEdges;
+}
+
+struct IterationMeans {
+    RenderResult result;
+    test::Estimate faceMiddle;  // the mean over the face-middle voxels, from the iterations' spread
+};
+
+IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_t seed, BreOptions options = {}) {
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    RenderSettings s;
+    s.integrator = "bre";
+    s.seed = seed;
+    s.bre = options;
+    const auto integrator = makeIntegrator(scene, sensor, s);
+    IterationMeans out{RenderResult{Film(sensor.pixelCount())}, {}};
+    std::vector<size_t> middle;
+    for (size_t p = 0; p < sensor.pixelCount(); ++p)
+        if (inFaceMiddle(sensor.pixels()[p].voxel)) middle.push_back(p);
+    EXPECT_GT(middle.size(), 100u);
+    double previous[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
+    for (uint32_t it = 0; it < iterations; ++it) {
+        renderSamples(*integrator, scene, sensor, s, {}, it, 1, out.result);
+        for (int c = 0; c < 3; ++c) {
+            double total = 0;
+            for (size_t p : middle) total += double(out.result.film.mean(p, c)) * out.result.film.samples(p, c);
+            const double iterationMean = (total - previous[c]) / double(middle.size());
+            previous[c] = total;
+            sum[c] += iterationMean;
+            sumSq[c] += iterationMean * iterationMean;
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double mean = sum[c] / iterations;
+        const double variance = std::max(0.0, (sumSq[c] - iterations * mean * mean) / (iterations - 1.0));
+        out.faceMiddle.mean[c] = float(mean);
+        out.faceMiddle.standardError[c] = float(std::sqrt(variance / iterations));
+    }
+    return out;
+}
+
+// volpath's mean over the same voxels.
+test::Estimate volpathFaceMiddle(const Scene& scene, uint32_t spp) {
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    RenderSettings s;
+    s.spp = spp;
+    s.seed = 5;
+    const RenderResult r = render(scene, sensor, s);
+    test::Estimate e{};
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0, var = 0;
+        size_t n = 0;
+        for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+            if (!inFaceMiddle(sensor.pixels()[p].voxel)) continue;
+            sum += r.film.mean(p, c);
+            var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+            ++n;
+        }
+        e.mean[c] = float(sum / double(n));
+        e.standardError[c] = float(std::sqrt(var) / double(n));
+    }
+    return e;
+}
+
+TEST(Bre, RadiusShrinksAsScheduled) {
+    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.9f, 0.9f})}}), 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    BreOptions o;
+    o.radius_voxels = 2.0f;
+    o.alpha = 0.5f;
+    const Bre shrinking(scene, sensor, o, Majorants::PerBrick, 1);
+    EXPECT_FLOAT_EQ(shrinking.radiusAt_mm(1), 2.0f * 0.04f);  // the smallest voxel side
+    for (uint32_t i = 1; i < 50; ++i) {
+        const double ratio = std::pow(double(shrinking.radiusAt_mm(i + 1)) / shrinking.radiusAt_mm(i), 2.0);
+        EXPECT_NEAR(ratio, (i + 0.5) / (i + 1.0), 1e-5) << "iteration " << i;
+    }
+    o.alpha = 1.0f;
+    const Bre kept(scene, sensor, o, Majorants::PerBrick, 1);
+    EXPECT_FLOAT_EQ(kept.radiusAt_mm(40), kept.radiusAt_mm(1));
+}
+
+// No absorption: the light leaving is the environment's, L = Le, on the
+// face middles (where the kernel sees photons all round) within the
+// iterations' error.
+TEST(Bre, WhiteFurnaceIsTheEnvironment) {
+    for (float ior : {1.0f, 1.5f}) {
+        Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                     test::tableOf({{1, material({8, 12, 20}, {1, 1, 1}, {0, 0.3f, 0.6f})}}), ior);
+        const IterationMeans r = renderIterations(scene, 12, 3);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
+                << "IOR " << ior << ", channel " << c;
+    }
+}
+
+TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) {
+    for (float ior : {1.0f, 1.5f}) {
+        Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                     test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})}}),
+                                     ior);
+        const IterationMeans bre = renderIterations(scene, 12, 7);
+        const test::Estimate reference = volpathFaceMiddle(scene, 256);
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_GT(bre.faceMiddle.mean[c], 0.02f);
+            EXPECT_NEAR(bre.faceMiddle.mean[c], reference.mean[c],
+                        5.0 * std::hypot(bre.faceMiddle.standardError[c], reference.standardError[c]))
+                << "IOR " << ior << ", channel " << c;
+        }
+    }
+}
+
+TEST(Bre, SameBitsWhateverTheThreads) {
+    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i& v) { return Label(1 + (v.x + v.y) % 2); },
+                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.7f, 0.5f})},
+                                                {2, material({20, 5, 10}, {0.6f, 0.9f, 0.8f})}}),
+                                 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    RenderSettings s;
+    s.integrator = "bre";
+    s.spp = 3;
+    std::vector<float> values[2];
+    for (int run = 0; run < 2; ++run) {
+        tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
+        const RenderResult r = render(scene, sensor, s);
+        for (size_t p = 0; p < sensor.pixelCount(); ++p)
+            for (int c = 0; c < 3; ++c) values[run].push_back(r.film.mean(p, c));
+    }
+    EXPECT_EQ(values[0], values[1]);
+}
+
+}  // namespace
+}  // namespace pl
