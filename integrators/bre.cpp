@@ -250,7 +250,8 @@ Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, floa
         if (t < 0.0f || t > tCut) return;
         const float d2 = dot(v, v) - t * t;
         if (!(d2 < r2)) return;
-        const double k = kernelScale * std::pow(1.0 - double(d2) / r2, 2.0);
+        const double w = 1.0 - double(d2) / r2;
+        const double k = kernelScale * w * w;
         sum += k * transmittanceTo(t) * hgPhase(dot(ph.dIn, -ray.d), lut.g[ph.label]) * double(ph.power);
     });
     return {sum, cut ? 0.0f : float(std::exp(-tau))};
