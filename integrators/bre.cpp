@@ -121,13 +121,8 @@ Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants
       pixelCount_(sensor.pixelCount()),
       options_(options),
       majorants_(majorants),
-      photonSeed_(mix64(seed ^ 0x62726550ULL)) {
-    const TriangleMesh& mesh = scene.geometry->mesh();
-    areaCdf_mm2_.reserve(mesh.triangleCount());
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        meshArea_mm2_ += mesh.triangleArea_mm2(t);
-        areaCdf_mm2_.push_back(meshArea_mm2_);
-    }
+      photonSeed_(mix64(seed ^ 0x62726550ULL)),
+      entries_(*scene.geometry) {
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
     const uint64_t photons = uint64_t(std::ceil(double(options.photonsPerPixel) * double(pixelCount_)));
@@ -154,22 +149,13 @@ float Bre::radiusAt_mm(uint32_t iteration) const {
     return float(double(options_.radius_voxels * smallestVoxel_mm_) * std::sqrt(r2));
 }
 
-SurfaceHit Bre::entryOnMesh(Rng& rng) const {
-    const double pick = double(rng.uniform()) * meshArea_mm2_;
-    const uint32_t prim = uint32_t(std::min<size_t>(
-        std::upper_bound(areaCdf_mm2_.begin(), areaCdf_mm2_.end(), pick) - areaCdf_mm2_.begin(), areaCdf_mm2_.size() - 1));
-    const float u0 = rng.uniform(), u1 = rng.uniform();
-    const TriangleSample b = sampleUniformTriangle(u0, u1);
-    return scene_.geometry->pointOn(prim, b.b1, b.b2);
-}
-
 PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float Le = scene_.environment[channel];
     const uint64_t count = std::max<uint64_t>(1, uint64_t(std::llround(double(options_.photonsPerPixel) * double(pixelCount_))));
     // Each photon carries the power the environment sends into the object
     // (Le pi A) over the count; cosine-weighted directions cancel the pi.
-    const double power = double(Le) * kPi * meshArea_mm2_ / double(count);
+    const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
     std::vector<std::vector<PhotonMap::Photon>> parts(kParts);
     std::vector<PathStats> partStats(kParts);
     if (Le > 0.0f)
@@ -179,7 +165,7 @@ PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) cons
                 for (uint64_t i = count * part / kParts; i < count * (part + 1) / kParts; ++i) {
                     if (interruptRequested()) return;
                     Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
-                    const SurfaceHit entry = entryOnMesh(rng);
+                    const SurfaceHit entry = entries_.sample(rng);
                     const float w0 = rng.uniform(), w1 = rng.uniform();
                     const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
                     SingleChannelPath path{&lut, channel, Le};

@@ -26,6 +26,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/mesh_point_sampler.h"
 #include "core/option_table.h"
 #include "integrators/integrator.h"
 #include "integrators/volpath.h"
@@ -107,15 +108,13 @@ private:
     };
     SegmentGather gatherSegment(const PhotonMap& map, const Ray& ray, float tEnd_mm, int channel,
                                 LabelMedium::Tracker& medium) const;
-    SurfaceHit entryOnMesh(Rng& rng) const;
 
     const Scene& scene_;
     size_t pixelCount_;
     BreOptions options_;
     Majorants majorants_;
     uint64_t photonSeed_;
-    std::vector<double> areaCdf_mm2_;
-    double meshArea_mm2_ = 0;
+    MeshPointSampler entries_;  // where particles enter
     float smallestVoxel_mm_;
 };
 

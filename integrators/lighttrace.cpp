@@ -81,19 +81,14 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
       volpath_(scene, volpath, /*reentry=*/false),  // lighttrace refuses re-entry
       printpt_(scene, printpt, seed, std::move(controlMeans)),
       majorants_(majorants),
-      lightSeed_(mix64(seed ^ 0x6c69676874ULL)) {
+      lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
+      entries_(*scene.geometry) {
     if (!(options.trackSpacing_mfp > 0.0f)) throw std::invalid_argument("lighttrace: the track spacing must be positive");
     const GridCoefficients coefficients = gridCoefficientsOf(*scene.medium);
     leastSigmaT_ = coefficients.leastSigmaT;
     const float depth_mm = lineDepthFor_mm(scene, leastSigmaT_);
     for (float fraction : {0.125f, 0.25f, 0.5f, 1.0f})
         prismLevels_.push_back(std::make_unique<PrismIndex>(scene.geometry->mesh(), depth_mm * fraction));
-    const TriangleMesh& mesh = scene.geometry->mesh();
-    areaCdf_mm2_.reserve(mesh.triangleCount());
-    for (size_t t = 0; t < mesh.triangleCount(); ++t) {
-        meshArea_mm2_ += mesh.triangleArea_mm2(t);
-        areaCdf_mm2_.push_back(meshArea_mm2_);
-    }
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     for (int c = 0; c < 3; ++c) trackSpacing_mm_[c] = options.trackSpacing_mfp / coefficients.mostSigmaS[c];
     for (auto& serves : lightServes_) serves.resize(sensor_.pixelCount());
@@ -370,8 +365,8 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
                 }
                 Rng rng = Rng::forPath(lightSeed_, i, sample, uint64_t(channel));
                 if (!stratified) {
-                    const SurfaceHit entry = entryOnMesh(rng);
-                    traceParticle(channel, entry, Le * kPi * meshArea_mm2_ / double(units), medium, rng, tally,
+                    const SurfaceHit entry = entries_.sample(rng);
+                    traceParticle(channel, entry, Le * kPi * entries_.area_mm2() / double(units), medium, rng, tally,
                                   partStats);
                     continue;
                 }
@@ -391,15 +386,6 @@ void LightTrace::scoreLightBlock(int channel, uint32_t sample, LightBlockScores&
             mergeInOrder(part, std::move(tally), partStats);
         }
     });
-}
-
-SurfaceHit LightTrace::entryOnMesh(Rng& rng) const {
-    const double pick = double(rng.uniform()) * meshArea_mm2_;
-    const uint32_t prim = uint32_t(std::min<size_t>(
-        std::upper_bound(areaCdf_mm2_.begin(), areaCdf_mm2_.end(), pick) - areaCdf_mm2_.begin(), areaCdf_mm2_.size() - 1));
-    const float u0 = rng.uniform(), u1 = rng.uniform();
-    const TriangleSample b = sampleUniformTriangle(u0, u1);
-    return scene_.geometry->pointOn(prim, b.b1, b.b2);
 }
 
 void LightTrace::traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Tracker& medium,

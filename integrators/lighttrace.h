@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/enum_names.h"
+#include "core/mesh_point_sampler.h"
 #include "core/option_table.h"
 #include "core/prism_index.h"
 #include "core/sensors.h"
@@ -156,8 +157,6 @@ private:
     };
     // Sets nearLitPixels_ from lightServes_.
     void decideEmissionShares();
-    // A point uniform by area over the mesh.
-    SurfaceHit entryOnMesh(Rng& rng) const;
     // One particle's walk from the environment through `entry`, scoring
     // into the tally with its starting weight.
     void traceParticle(int channel, const SurfaceHit& entry, double weight, LabelMedium::Tracker& medium, Rng& rng,
@@ -177,8 +176,7 @@ private:
     // collision queries the shallowest that holds every line its roulette
     // keeps (shallow prisms overlap less).
     std::vector<std::unique_ptr<PrismIndex>> prismLevels_;
-    // Triangles by area, for entry points uniform over the mesh.
-    std::vector<double> areaCdf_mm2_;
+    MeshPointSampler entries_;  // where particles enter
     // Per channel and pixel: whether the light side scores into it (bytes:
     // prepare writes them from several threads).
     std::array<std::vector<uint8_t>, 3> lightServes_;
@@ -188,7 +186,6 @@ private:
     // kFarEmissionShare elsewhere (emissionShare).
     std::array<std::vector<uint8_t>, 3> nearLitPixels_;
     float emissionShare(int channel, size_t pixel) const;
-    double meshArea_mm2_ = 0;
     RGB trackSpacing_mm_{};  // per channel (Scoring::Tracks)
 };
 
