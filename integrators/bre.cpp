@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <stdexcept>
 
 #include "core/fresnel.h"
@@ -274,25 +273,15 @@ float Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, Label
 void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
     if (pass.channel < 0) throw std::logic_error("bre renders one channel per pass");
     const PixelShare& share = pass.share;
-    const size_t n = share.size(pass.sensor.pixelCount());
-    std::mutex statsMutex;
     for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
         const PhotonMap map = tracePhotons(pass.channel, s, stats);
-        parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-            LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
-            PathStats tileStats;
-            for (size_t i = begin; i < end; ++i) {
-                if (interruptRequested()) return;
-                const size_t p = share.pixel(i);
-                Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
-                const float u0 = rng.uniform(), u1 = rng.uniform();
-                const float value = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
-                film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
-                ++tileStats.paths;
-            }
-            progress.advance(end - begin);
-            std::lock_guard<std::mutex> lock(statsMutex);
-            stats += tileStats;
+        renderPixelTiles(pass, stats, progress, 1, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
+            const size_t p = share.pixel(i);
+            Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
+            const float u0 = rng.uniform(), u1 = rng.uniform();
+            const float value = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
+            film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
+            ++tileStats.paths;
         });
     }
 }

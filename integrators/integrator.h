@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,9 @@
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
 #include "runtime/pixel_share.h"
+#include "runtime/interrupt.h"
 #include "runtime/progress.h"
+#include "runtime/scheduler.h"
 #include "scene/scene.h"
 
 namespace pl {
@@ -148,6 +151,28 @@ public:
     // Why these settings cannot run (one line, naming the scene key), or "".
     static std::string refusal(const RenderSettings& /*settings*/) { return {}; }
 };
+
+// The pass's pixels in tiles on the scheduler, each pixel by one thread:
+// perPixel(i, medium, tileStats) for position i of the share, with the
+// tile's tracker and path statistics (added to `stats` as the tile ends).
+// Progress advances by unitsPerPixel a pixel. Stops at Ctrl-C (checked
+// before each pixel; perPixel returns early to end its own).
+template <class PerPixel>
+void renderPixelTiles(const RenderPass& pass, PathStats& stats, ProgressBar& progress, uint64_t unitsPerPixel,
+                      PerPixel&& perPixel) {
+    std::mutex statsMutex;
+    parallelForTiles(pass.share.size(pass.sensor.pixelCount()), 64, [&](size_t begin, size_t end) {
+        LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
+        PathStats tileStats;
+        for (size_t i = begin; i < end; ++i) {
+            if (interruptRequested()) return;
+            perPixel(i, medium, tileStats);
+        }
+        progress.advance((end - begin) * unitsPerPixel);
+        std::lock_guard<std::mutex> lock(statsMutex);
+        stats += tileStats;
+    });
+}
 
 // The estimators that render each pixel sample with one camera path, alone
 // (volpath, printpt, the deterministic predictors): render is one loop over

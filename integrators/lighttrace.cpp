@@ -120,9 +120,7 @@ std::unique_ptr<Integrator> LightTrace::create(const Scene& scene, const Sensor&
 void LightTrace::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
     if (pass.channel < 0) throw std::logic_error("lighttrace renders one channel per pass");
     const PixelShare& share = pass.share;
-    const size_t n = share.size(pass.sensor.pixelCount());
     const int ranks = share.acrossRanks ? Distributed::ranks() : 1, rank = share.acrossRanks ? Distributed::rank() : 0;
-    std::mutex statsMutex;
     for (uint32_t wave = pass.firstSample; wave < pass.firstSample + pass.count; wave += uint32_t(ranks)) {
         const int blocks = int(std::min<uint32_t>(uint32_t(ranks), pass.firstSample + pass.count - wave));
         LightBlockScores mine;
@@ -144,24 +142,16 @@ void LightTrace::render(const RenderPass& pass, Film& film, PathStats& stats, Pr
         }
         for (int k = 0; k < blocks; ++k) {
             const uint32_t s = wave + uint32_t(k);
-            parallelForTiles(n, 64, [&](size_t begin, size_t end) {
-                LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
-                PathStats tileStats;
-                for (size_t i = begin; i < end; ++i) {
-                    if (interruptRequested()) return;
-                    const size_t p = share.pixel(i);
-                    Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
-                    float u0 = rng.uniform(), u1 = rng.uniform();
-                    ChannelSample sample =
-                        cameraSide(p, pass.sensor.generateRay(p, u0, u1), pass.channel, medium, rng, tileStats);
-                    const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
-                    sample.value += float(light[size_t(k)].score[at]);
-                    sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
-                    film.add(share.filmPixel(i), pass.channel, sample);
-                }
-                progress.advance(end - begin);
-                std::lock_guard<std::mutex> lock(statsMutex);
-                stats += tileStats;
+            renderPixelTiles(pass, stats, progress, 1, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
+                const size_t p = share.pixel(i);
+                Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
+                float u0 = rng.uniform(), u1 = rng.uniform();
+                ChannelSample sample =
+                    cameraSide(p, pass.sensor.generateRay(p, u0, u1), pass.channel, medium, rng, tileStats);
+                const size_t at = share.acrossRanks ? positionInShare(uint32_t(p), ranks) : p;
+                sample.value += float(light[size_t(k)].score[at]);
+                sample.withinVariance = float(light[size_t(k)].scoreSq[at]);
+                film.add(share.filmPixel(i), pass.channel, sample);
             });
         }
     }
