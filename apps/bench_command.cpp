@@ -550,7 +550,8 @@ Measured measure(const Scene& scene, const Sensor& sensor, const ChosenConfigura
             // (With several renders the relative MSE is redone below, over one denominator.)
             auto ownMeanSq = [&](size_t p, int c) { return double(r.film.mean(p, c)) * r.film.mean(p, c); };
             Errors e = self ? selfVariance(r.film, ownMeanSq) : compare(r.film, sensor, m.reference);
-            const double medianRel = medianRelativeError(r.film, sensor, self ? nullptr : &m.reference);
+            const bool camera = dynamic_cast<const CameraSensor*>(&sensor) != nullptr;
+            const double medianRel = medianRelativeError(r.film, sensor, self ? nullptr : &m.reference, camera);
             std::optional<SurfaceColourError> colour;
             RGB bias{0, 0, 0};
             double withinTwoErrors = 0;

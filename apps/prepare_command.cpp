@@ -177,10 +177,14 @@ void sayModelSize(const std::filesystem::path& model, const PlacedModel& placed,
 // PREFIX_surface.json (the bundled scenes' settings: light tracing over each
 // voxel's patch) and PREFIX_preview.json (looking at the centre from a
 // corner above, far enough to frame it; it stops at 5 % median noise or
-// after a minute).
-void writeScenes(const std::filesystem::path& sceneOut, const std::filesystem::path& model, const PlacedModel& placed,
-                 bool repair, const std::filesystem::path& labels, const std::filesystem::path& materials,
-                 const Bounds3f& bounds_mm) {
+// after a minute). Light that leaves a convex object never comes back: its
+// preview needs no re-entry, and printpt serves it (1.8x volpath on the
+// greek cube's, docs/particle-methods.md). Returns what it wrote, for the
+// summary.
+std::string writeScenes(const std::filesystem::path& sceneOut, const std::filesystem::path& model,
+                        const PlacedModel& placed, bool repair, const std::filesystem::path& labels,
+                        const std::filesystem::path& materials, const Geometry& geometry) {
+    const Bounds3f bounds_mm = geometry.bounds();
     const std::string stem = sceneOut.filename().string();
     SceneDescription surface;
     surface.meshFile = model;
@@ -203,13 +207,17 @@ void writeScenes(const std::filesystem::path& sceneOut, const std::filesystem::p
     preview.sensor.fovY_deg = 30;
     preview.sensor.width = 320;
     preview.sensor.height = 240;
-    preview.render.integrator = "volpath";
+    const bool convex = isConvex(geometry.mesh());
+    preview.render.integrator = convex ? "printpt" : "volpath";
     preview.render.spp = uint32_t(RenderSettings::kMostSpp);
     preview.render.targetRelativeError = 0.05;
     preview.render.timeBudget_s = 60;
-    preview.render.reentry = true;
+    preview.render.reentry = !convex;
     preview.output = "out/" + stem + "_preview";
     writeScene(preview, sceneOut.string() + "_preview.json");
+    return sceneOut.string() + "_surface.json (lighttrace), " + sceneOut.string() + "_preview.json (" +
+           (convex ? "printpt: the mesh is convex, nothing re-enters" : "volpath with re-entry: the mesh is not convex") +
+           ")";
 }
 
 // What prepare made, on stdout (repairedText: what --repair did, or "").
@@ -337,12 +345,14 @@ int prepareCommand(const std::vector<std::string>& argv) {
 
     auto t3 = std::chrono::steady_clock::now();
     writePreparedVdb(prepared.labels, prepared.fields, output);
-    if (sceneOut) writeScenes(*sceneOut, model, placed, repair, output, *materialsFile, geometry.bounds());
+    const std::string scenesText =
+        sceneOut ? writeScenes(*sceneOut, model, placed, repair, output, *materialsFile, geometry) : std::string();
     double tWrite = secondsSince(t3);
     materials.keep();
 
     printPrepareSummary(model, placed.sizeText, prepared, mesh, materials, mixingSource,
                         repair ? repaired.text() : std::string(), ps, args, tLoad, tWrite, output);
+    if (!scenesText.empty()) std::printf("  scenes:    %s\n", scenesText.c_str());
     return 0;
 }
 

@@ -16,7 +16,7 @@ void Film::poolWith(int channel, const KeyPools& keys, const ImageNeighbourhood&
         return a.poolWhereFlat ? m.perSampleVariance() : (m.m2 + m.sum * m.sum / m.count) / m.count;
     };
     for (Accumulator& a : acc) {
-        if (a.poolKey < 0 || a.count == 0) continue;
+        if (pooledKeyOf(a) < 0 || a.count == 0) continue;
         a.pooledError = float(std::sqrt(keyVariance(a) * a.pooledSamples) / a.count);
     }
 
@@ -35,7 +35,7 @@ void Film::poolWith(int channel, const KeyPools& keys, const ImageNeighbourhood&
         // with units - 1.
         const Moments own = momentsOf(a);
         double prior = window.perSampleVariance(), priorDof = std::min(window.units - 1, kWindowDegreesOfFreedom);
-        if (window.flat() && a.poolKey >= 0) {
+        if (window.flat() && pooledKeyOf(a) >= 0) {
             prior = keyVariance(a);
             priorDof = kWindowDegreesOfFreedom;
         }

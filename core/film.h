@@ -71,12 +71,17 @@ public:
         addGroup(pixel, channel, sample.value, 1);
         Accumulator& a = acc_[channel][pixel];
         a.sharedErrorSum += sample.sharedError;
+        // A surface voxel's samples share its entry: the first key stands
+        // for all. A camera pixel's may not (entries into other labels,
+        // rays that miss): its residuals then do not hold its error, and it
+        // is pooled on its values (pooledKeyOf).
+        if (a.count == 1) {
+            a.poolKey = sample.poolKey;
+            a.poolWhereFlat = sample.poolWhereFlat;
+        } else if (sample.poolKey != a.poolKey) {
+            a.keysDiffer = true;
+        }
         if (sample.poolKey >= 0) {
-            // A pixel's samples share its entry: the first key stands for all.
-            if (a.poolKey < 0) {
-                a.poolKey = sample.poolKey;
-                a.poolWhereFlat = sample.poolWhereFlat;
-            }
             a.pooledSamples += 1;
             const float d = sample.residual - a.residualMean;
             a.residualMean += d / float(a.pooledSamples);
@@ -253,25 +258,28 @@ public:
 
 private:
     struct Accumulator;
+    // The key a pixel's residuals are pooled under: -1 where its samples
+    // had none or different ones.
+    static int32_t pooledKeyOf(const Accumulator& a) { return a.keysDiffer ? -1 : a.poolKey; }
     // The kind of a pixel's samples, for its neighbourhood: 0 with a part
     // estimated from within (no window), 1 with a control, 2 pooled where
     // flat, 3 neither.
     static int windowKind(const Accumulator& a) {
         if (a.count == 0 || a.hasWithinVariance) return 0;
-        return a.poolKey < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
+        return pooledKeyOf(a) < 0 ? 3 : a.poolWhereFlat ? 2 : 1;
     }
     // A pixel's pooled samples' residuals (every sample has one where it
     // has a key), and its samples: their residuals where they have a key,
     // their values otherwise.
     static PixelResiduals residualsOf(const Accumulator& a) {
-        return {a.poolKey, a.pooledSamples, a.residualMean, a.residualM2};
+        return {pooledKeyOf(a), a.pooledSamples, a.residualMean, a.residualM2};
     }
     static Moments residualMoments(const PixelResiduals& r) {
         return WindowSamples{0, r.samples, r.samples, r.mean, r.m2}.moments();
     }
     static Moments residualMoments(const Accumulator& a) { return residualMoments(residualsOf(a)); }
     static WindowSamples windowSamplesOf(const Accumulator& a) {
-        if (a.poolKey >= 0)
+        if (pooledKeyOf(a) >= 0)
             return {windowKind(a), a.pooledSamples, a.pooledSamples, a.residualMean, a.residualM2};
         return {windowKind(a), a.count, a.units, a.mean, a.m2};
     }
@@ -283,7 +291,7 @@ private:
     static float sharedError(const Accumulator& a) { return a.count ? a.sharedErrorSum / float(a.count) : 0.0f; }
     static float independentError(const Accumulator& a) {
         if (a.hasWithinVariance) {
-            const double rest = a.poolKey < 0 ? 0.0 : residualFlat(a) ? a.pooledError : residualSpread(a);
+            const double rest = pooledKeyOf(a) < 0 ? 0.0 : residualFlat(a) ? a.pooledError : residualSpread(a);
             return float(std::sqrt(double(a.withinVarianceSum) / (double(a.count) * a.count) + rest * rest));
         }
         return a.pooledOverWindow ? a.pooledError : spreadError(a);
@@ -318,6 +326,7 @@ private:
         bool poolWhereFlat = false;
         bool hasWithinVariance = false;
         bool pooledOverWindow = false;  // pooledError is the whole independent error
+        bool keysDiffer = false;        // its samples came with different keys (or some without)
     };
     // What a settled channel keeps of a pixel.
     struct Settled {

@@ -249,4 +249,23 @@ TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi) {
     return m;
 }
 
+bool isConvex(const TriangleMesh& mesh) {
+    const size_t triangles = mesh.triangleCount(), vertices = mesh.positions_mm.size();
+    if (triangles == 0 || double(triangles) * double(vertices) > 2e8) return false;
+    Bounds3f b;
+    for (const Point3f& p : mesh.positions_mm) b.expand(p);
+    const double tolerance_mm = 1e-5 * double(length(b.hi - b.lo));
+    for (size_t t = 0; t < triangles; ++t) {
+        const Point3f& a = mesh.positions_mm[mesh.indices[3 * t]];
+        const Vec3f n = cross(mesh.positions_mm[mesh.indices[3 * t + 1]] - a, mesh.positions_mm[mesh.indices[3 * t + 2]] - a);
+        const double area2 = double(length(n));
+        if (!(area2 > 0.0)) continue;  // a degenerate triangle has no plane
+        const double nx = n.x / area2, ny = n.y / area2, nz = n.z / area2;
+        const double offset = nx * a.x + ny * a.y + nz * a.z;
+        for (const Point3f& p : mesh.positions_mm)
+            if (nx * p.x + ny * p.y + nz * p.z > offset + tolerance_mm) return false;
+    }
+    return true;
+}
+
 }  // namespace pl

@@ -30,6 +30,12 @@ struct TriangleMesh {
 // Axis-aligned box with outward counter-clockwise winding.
 TriangleMesh boxMesh(const Point3f& lo, const Point3f& hi);
 
+// Whether the closed mesh bounds a convex body: every vertex on the inner
+// side of every triangle's plane, within 1e-5 of the mesh's diagonal. Light
+// that leaves a convex object never meets it again, so there re-entry is
+// nothing. Meshes with over 2e8 triangle-vertex pairs are not tested (false).
+bool isConvex(const TriangleMesh& mesh);
+
 struct Bounds3f {
     Point3f lo{1e30f, 1e30f, 1e30f}, hi{-1e30f, -1e30f, -1e30f};
     void expand(const Point3f& p) { lo = vmin(lo, p); hi = vmax(hi, p); }

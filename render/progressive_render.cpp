@@ -17,10 +17,9 @@ double medianRelativeError(const Film& film, const Sensor& sensor, const Radianc
         std::vector<double> rel;
         rel.reserve(film.pixelCount());
         for (size_t p = 0; p < film.pixelCount(); ++p) {
-            const double m = film.mean(p, c);
+            const double m = film.mean(p, c), se = film.standardError(p, c);
+            if (skipExact && !(se > 0)) continue;
             if (!ref) {
-                const double se = film.standardError(p, c);
-                if (skipExact && !(se > 0)) continue;
                 rel.push_back(m > 0 ? se / m : INFINITY);
                 continue;
             }

@@ -22,7 +22,7 @@ struct RadianceImage;
 // estimate the same for an unbiased estimator. A dark pixel (mean or
 // reference <= 0) counts as infinitely far. skipExact: pixels whose
 // estimate has no variance (background that sees the environment) are
-// left out (previews), under self-variance.
+// left out (previews).
 double medianRelativeError(const Film& film, const Sensor& sensor, const RadianceImage* ref, bool skipExact = false);
 
 // Rounds of samples with one integrator, made once (its census and means

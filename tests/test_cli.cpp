@@ -620,6 +620,12 @@ TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
     EXPECT_EQ(own["object"]["materials"], "own_materials.json");
     EXPECT_EQ(own["render"]["integrator"], "lighttrace");
     EXPECT_EQ(own["sensor"]["footprint"], "patch");
+    // A box is convex: its preview needs no re-entry, and printpt serves it.
+    const nlohmann::json preview = nlohmann::json::parse(readText(s.dir / "own_preview.json"));
+    EXPECT_EQ(preview["render"]["integrator"], "printpt");
+    EXPECT_FALSE(preview["render"].contains("reentry"));  // false, the default
+    EXPECT_NE(r.out.find("own_preview.json (printpt: the mesh is convex, nothing re-enters)"), std::string::npos)
+        << r.out;
     r = printlight("render " + (s.dir / "own_surface.json").string() + " --spp 1 -o " + (s.dir / "own_render").string(),
                    s.dir);
     EXPECT_EQ(r.exitCode, 0) << r.err;
