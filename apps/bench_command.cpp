@@ -101,11 +101,12 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         light.lighttrace.particlesPerPixel = particles;
         c["lighttrace-p" + std::to_string(int(particles))] = light;
     }
-    // The fast approximate predictors (deterministic: one sample says all).
-    for (const char* predictor : {"diffusion", "learned"}) {
-        RenderSettings fast = v;
-        fast.integrator = predictor;
-        c[predictor] = fast;
+    // The fast approximate predictors (deterministic: one sample says all),
+    // the photon map and light tracing into the camera, with their defaults.
+    for (const char* other : {"diffusion", "learned", "bre", "cameratrace"}) {
+        RenderSettings q = v;
+        q.integrator = other;
+        c[other] = q;
     }
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
     for (const char* integrator : {"volpath", "printpt"}) {

@@ -165,18 +165,13 @@ PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) cons
                     if (interruptRequested()) return;
                     Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
                     const SurfaceHit entry = entries_.sample(rng);
-                    const float w0 = rng.uniform(), w1 = rng.uniform();
-                    const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
                     SingleChannelPath path{&lut, channel, Le};
-                    path.beta = 1.0f - fresnelDielectric(-dot(d, entry.ns), scene_.ior);
-                    if (!(path.beta > 0.0f)) continue;
-                    const Ray ray = enteringRay(scene_, Ray{entry.p - d, d}, entry);
                     std::vector<PhotonMap::Photon>& stored = parts[part];
                     auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
                         stored.push_back({y, dIn, float(power * double(p.beta)), label});
                     };
-                    walkVolume(scene_, VolPathOptions{}, /*reentry=*/false, ray, path, medium, rng, partStats[part],
-                               [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
+                    walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats[part],
+                                   [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
                 }
         });
     std::vector<PhotonMap::Photon> photons;

@@ -149,4 +149,20 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
     }
 }
 
+// A particle from the environment entering at `entry`: a cosine-weighted
+// direction from outside (pdf cos / pi, which a particle power of Le pi A
+// cancels), the Fresnel transmission in as its path weight, then the walk
+// inside (no re-entry). Takes two uniform numbers before the walk's.
+template <class OnFlight, class OnCollision>
+void walkParticleIn(const Scene& scene, const VolPathOptions& options, const SurfaceHit& entry, SingleChannelPath& path,
+                    LabelMedium::Tracker& medium, Rng& rng, PathStats& stats, OnFlight&& onFlight,
+                    OnCollision&& onCollision) {
+    const float w0 = rng.uniform(), w1 = rng.uniform();
+    const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(w0, w1).d);
+    path.beta = 1.0f - fresnelDielectric(-dot(d, entry.ns), scene.ior);
+    if (!(path.beta > 0.0f)) return;
+    const Ray ray = enteringRay(scene, Ray{entry.p - d, d}, entry);
+    walkVolume(scene, options, /*reentry=*/false, ray, path, medium, rng, stats, onFlight, onCollision);
+}
+
 }  // namespace pl

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "integrators/bre.h"
+#include "integrators/cameratrace.h"
 #include "integrators/diffusion.h"
 #include "integrators/learned.h"
 #include "integrators/lighttrace.h"
@@ -20,6 +21,7 @@ std::deque<IntegratorKind>& kinds() {
         {"diffusion", factoryOf<Diffusion>()},
         {"learned", factoryOf<Learned>()},
         {"bre", factoryOf<Bre>()},
+        {"cameratrace", factoryOf<CameraTrace>()},
     };
     return all;
 }
