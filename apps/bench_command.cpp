@@ -101,9 +101,9 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         light.lighttrace.particlesPerPixel = particles;
         c["lighttrace-p" + std::to_string(int(particles))] = light;
     }
-    // The fast approximate predictors (deterministic: one sample says all),
-    // the photon map and light tracing into the camera, with their defaults.
-    for (const char* other : {"diffusion", "learned", "bre", "cameratrace"}) {
+    // The fast approximate predictors (deterministic: one sample says all)
+    // and the photon map, with their defaults.
+    for (const char* other : {"diffusion", "learned", "bre"}) {
         RenderSettings q = v;
         q.integrator = other;
         c[other] = q;

@@ -29,18 +29,6 @@ Ray PerspectiveSensor::rayThrough(float x, float y) const {
     return {origin_, normalize(d)};
 }
 
-std::optional<PerspectiveSensor::PixelImportance> PerspectiveSensor::importanceOf(const Vec3f& d) const {
-    const float cosTheta = dot(d, forward_);
-    if (!(cosTheta > 0.0f)) return std::nullopt;
-    const float aspect = float(width_) / float(height_);
-    const float x = dot(d, right_) / (cosTheta * tanHalfFovY_ * aspect), y = dot(d, up_) / (cosTheta * tanHalfFovY_);
-    const float column = std::floor((x + 1.0f) * 0.5f * float(width_)), row = std::floor((1.0f - y) * 0.5f * float(height_));
-    if (!(column >= 0.0f && column < float(width_) && row >= 0.0f && row < float(height_))) return std::nullopt;
-    const float pixelArea = (2.0f * tanHalfFovY_ * aspect / float(width_)) * (2.0f * tanHalfFovY_ / float(height_));
-    return PixelImportance{size_t(row) * size_t(width_) + size_t(column),
-                           1.0f / (pixelArea * cosTheta * cosTheta * cosTheta)};
-}
-
 OrthographicSensor::OrthographicSensor(const CameraPose& pose, float viewWidth_mm, int width,
                                        int height)
     : CameraSensor(pose, width, height), viewWidth_mm_(viewWidth_mm) {}

@@ -7,7 +7,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "core/geometry.h"
@@ -91,18 +90,6 @@ protected:
 class PerspectiveSensor : public CameraSensor {
 public:
     PerspectiveSensor(const CameraPose& pose, float fovY_deg, int width, int height);
-
-    // Light arriving at the pinhole along -d (d: unit, from the pinhole
-    // out): the pixel it lands in and the importance of the direction,
-    // 1 / (a cos^3 theta), a the pixel's area on the film at unit distance
-    // (a pixel's value is the mean radiance over its film area, and
-    // d omega = cos^3 theta dA there). None outside the image.
-    struct PixelImportance {
-        size_t pixel;
-        float importance;
-    };
-    std::optional<PixelImportance> importanceOf(const Vec3f& d) const;
-    const Point3f& position_mm() const { return origin_; }
 
 private:
     Ray rayThrough(float x, float y) const override;

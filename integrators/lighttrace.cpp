@@ -209,30 +209,27 @@ size_t LightTrace::cameraOnlyPixels(int channel) const {
 ChannelSample LightTrace::cameraSide(size_t pixel, Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                                      PathStats& stats) const {
     if (!lightServes_[channel][pixel]) return printpt_.Li(ray, channel, medium, rng, stats);
+    const Geometry& geometry = *scene_.geometry;
+    const float Le = scene_.environment[channel];
+    stats.paths += 1;
     // The light side adds its block's score and that score's variance; the
     // camera side's own random part (the transmittance and the far
     // boundary's light) is pooled over the entries into the same label
     // where a pixel's are all equal (Film).
-    ChannelSample sample = unscatteredCameraSide(scene_, volpath_, ray, channel, medium, rng, stats);
-    sample.hasWithinVariance = true;
-    return sample;
-}
-
-ChannelSample unscatteredCameraSide(const Scene& scene, const VolPath& volpath, const Ray& ray, int channel,
-                                    LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) {
-    const Geometry& geometry = *scene.geometry;
-    const float Le = scene.environment[channel];
-    stats.paths += 1;
     ChannelSample sample;
+    sample.hasWithinVariance = true;
     auto entry = geometry.intersect(ray);
     if (!entry) {
         sample.value = Le;
         return sample;
     }
-    const float F = fresnelDielectric(-dot(ray.d, entry->ng), scene.ior);
+    // The sensor's ray runs along the patch's inward normal: the light
+    // leaving along the normal is reflected (F at normal incidence) or comes
+    // straight along the line from inside.
+    const float F = fresnelDielectric(-dot(ray.d, entry->ng), scene_.ior);
     sample.value = F * Le;
-    const Ray inward = enteringRay(scene, ray, *entry);
-    sample.poolKey = entryPoolKeyOfPart(channel, medium.labelAt(scene.medium->voxelAt(inward.o)));
+    const Ray inward = geometry.spawnRay(entry->p, entry->ng, ray.d);
+    sample.poolKey = entryPoolKeyOfPart(channel, medium.labelAt(scene_.medium->voxelAt(inward.o)));
     sample.poolWhereFlat = true;
     auto far = geometry.intersectFromInside(inward);
     if (!far) {
@@ -247,10 +244,10 @@ ChannelSample unscatteredCameraSide(const Scene& scene, const VolPath& volpath, 
     // At the far boundary: the environment transmitted in, or what
     // arrives there along the mirror direction, reflected (volpath).
     const Vec3f n = -far->ns;  // facing against the ray
-    const float Ffar = fresnelDielectric(-dot(inward.d, n), 1.0f / scene.ior);
+    const float Ffar = fresnelDielectric(-dot(inward.d, n), 1.0f / scene_.ior);
     float Lfar = (1.0f - Ffar) * Le;
     if (rng.uniform() < Ffar)
-        Lfar += volpath.Li(reflectedInside(geometry, inward.d, *far), channel, medium, rng, stats).value;
+        Lfar += volpath_.Li(reflectedInside(geometry, inward.d, *far), channel, medium, rng, stats).value;
     sample.residual = (1.0f - F) * T * Lfar;
     sample.value += sample.residual;
     return sample;

@@ -61,15 +61,6 @@ inline constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTrace
 // (core/option_table.h; lighttrace_scoring is a name, render/scene_io).
 const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters();
 
-// Light tracing's camera side of a ray from outside: the environment
-// reflected where it enters (F Le) and, as the sample's residual, what
-// comes along the refracted ray's first segment without scattering on it
-// (the environment through the far side and, chosen by Fresnel there,
-// volpath's estimate along the internal reflection); the light side holds
-// the light scattered on that segment. Pooled by the entry's label.
-ChannelSample unscatteredCameraSide(const Scene& scene, const VolPath& volpath, const Ray& ray, int channel,
-                                    LabelMedium::Tracker& medium, Rng& rng, PathStats& stats);
-
 // One block of light paths' scores per pixel. The block's particles are
 // independent, so the variance of a pixel's score is the sum of each
 // particle's, which the sum of the particles' squared scores (each

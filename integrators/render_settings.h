@@ -10,7 +10,6 @@
 
 #include "core/option_table.h"
 #include "integrators/bre.h"
-#include "integrators/cameratrace.h"
 #include "integrators/lighttrace.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
@@ -39,7 +38,6 @@ struct RenderSettings {
     PrintPtOptions printpt;
     LightTraceOptions lighttrace;
     BreOptions bre;
-    CameraTraceOptions cameratrace;
     // The learned predictor's model (io/learned_model_io.h): by default the
     // one beside the scene's material table.
     std::filesystem::path learnedModel;

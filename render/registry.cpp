@@ -3,7 +3,6 @@
 #include <stdexcept>
 
 #include "integrators/bre.h"
-#include "integrators/cameratrace.h"
 #include "integrators/diffusion.h"
 #include "integrators/learned.h"
 #include "integrators/lighttrace.h"
@@ -21,7 +20,6 @@ std::deque<IntegratorKind>& kinds() {
         {"diffusion", factoryOf<Diffusion>()},
         {"learned", factoryOf<Learned>()},
         {"bre", factoryOf<Bre>()},
-        {"cameratrace", factoryOf<CameraTrace>()},
     };
     return all;
 }

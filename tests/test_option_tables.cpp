@@ -49,11 +49,9 @@ TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
     expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
     expectDeclaredOnceAndDocumented(breParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(cameraTraceParameters(), names, doc);
     // One render block: no key in two tables.
     EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
-                                printPtParameters().size() + breParameters().size() +
-                                cameraTraceParameters().size());
+                                printPtParameters().size() + breParameters().size());
 }
 
 }  // namespace
