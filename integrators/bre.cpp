@@ -117,14 +117,15 @@ void PhotonMap::forEachNear(const Ray& ray, float tMax_mm, F&& f) const {
 
 Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed)
     : scene_(scene),
-      pixelCount_(sensor.pixelCount()),
+      photonsPerIteration_(std::max<uint64_t>(
+          1, uint64_t(std::llround(double(options.photonsPerPixel) * double(sensor.pixelCount()))))),
       options_(options),
       majorants_(majorants),
       photonSeed_(mix64(seed ^ 0x62726550ULL)),
       entries_(*scene.geometry) {
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
-    const uint64_t photons = uint64_t(std::ceil(double(options.photonsPerPixel) * double(pixelCount_)));
+    const uint64_t photons = photonsPerIteration_;
     if (auto why = memoryShortfall(photons * kPhotonBytes, std::to_string(photons) + " photons an iteration",
                                    memoryInUseBytes()))
         throw std::runtime_error("bre: " + *why);
@@ -151,7 +152,7 @@ float Bre::radiusAt_mm(uint32_t iteration) const {
 PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float Le = scene_.environment[channel];
-    const uint64_t count = std::max<uint64_t>(1, uint64_t(std::llround(double(options_.photonsPerPixel) * double(pixelCount_))));
+    const uint64_t count = photonsPerIteration_;
     // Each photon carries the power the environment sends into the object
     // (Le pi A) over the count; cosine-weighted directions cancel the pi.
     const double power = double(Le) * kPi * entries_.area_mm2() / double(count);

@@ -110,7 +110,7 @@ private:
                                 LabelMedium::Tracker& medium) const;
 
     const Scene& scene_;
-    size_t pixelCount_;
+    uint64_t photonsPerIteration_;  // traced (each stored at every real collision)
     BreOptions options_;
     Majorants majorants_;
     uint64_t photonSeed_;

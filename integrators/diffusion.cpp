@@ -175,11 +175,6 @@ private:
     std::vector<Node> nodes_;
 };
 
-}  // namespace
-
-
-namespace {
-
 // The profile tables, one pair per Henyey-Greenstein g of the labels, and
 // per channel and label the index of its pair.
 struct LabelProfiles {

@@ -39,12 +39,7 @@ TEST(Convexity, BoxesAndPolyhedraAreConvexDentsAndPairsAreNot) {
 
 // A halftone-like box of inks and clear resin seen from above a corner.
 Scene halftonedBox() {
-    using test::material;
-    MaterialTable t = test::tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
-                                     {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
-                                     {3, material({20, 20, 20}, {0.02f, 0.02f, 0.02f}, {0.4f, 0.4f, 0.4f})},
-                                     {4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})},
-                                     {6, material({1e-4f, 1e-4f, 1e-4f}, {1, 1, 1})}});
+    MaterialTable t = test::mixedResins();
     return test::boxScene({24, 24, 24}, {0.05f, 0.05f, 0.05f},
                           [](const Vec3i& v) {
                               static const Label palette[6] = {0, 1, 3, 4, 4, 6};

@@ -13,11 +13,7 @@ namespace {
 using test::material;
 
 Scene mixedScene(float ior) {
-    MaterialTable t = test::tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
-                                     {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
-                                     {3, material({20, 20, 20}, {0.02f, 0.02f, 0.02f}, {0.4f, 0.4f, 0.4f})},
-                                     {4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})},
-                                     {6, material({1e-4f, 1e-4f, 1e-4f}, {1, 1, 1})}});
+    MaterialTable t = test::mixedResins();
     return test::boxScene({40, 20, 60}, {0.0423f, 0.0847f, 0.027f},
                           [](const Vec3i& v) {
                               static const Label palette[6] = {0, 1, 3, 4, 4, 6};

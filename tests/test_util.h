@@ -28,6 +28,16 @@ using synthetic::material;
 using synthetic::tableOf;
 constexpr Label kTestVoid = synthetic::kVoid;
 
+// The halftone-like resins the estimator tests mix: two inks (labels 0
+// and 1), a black (3), a white (4) and a nearly clear resin (6).
+inline MaterialTable mixedResins() {
+    return tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
+                    {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
+                    {3, material({20, 20, 20}, {0.02f, 0.02f, 0.02f}, {0.4f, 0.4f, 0.4f})},
+                    {4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})},
+                    {6, material({1e-4f, 1e-4f, 1e-4f}, {1, 1, 1})}});
+}
+
 // Box [0, size] whose voxels (voxel_mm, fitting exactly) carry labelOf(voxel).
 inline LabelGrid boxGrid(const Vec3i& resolution, const Vec3f& voxel_mm,
                          const std::function<Label(const Vec3i&)>& labelOf) {
