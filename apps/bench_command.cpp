@@ -102,8 +102,8 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
         c["lighttrace-p" + std::to_string(int(particles))] = light;
     }
     // The fast approximate predictors (deterministic: one sample says all)
-    // and the photon map, with their defaults.
-    for (const char* other : {"diffusion", "learned", "bre"}) {
+    // and the photon estimators, with their defaults.
+    for (const char* other : {"diffusion", "learned", "bre", "pb2d", "bb1d"}) {
         RenderSettings q = v;
         q.integrator = other;
         c[other] = q;

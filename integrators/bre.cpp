@@ -1,13 +1,12 @@
 #include "integrators/bre.h"
 
-#include <tbb/parallel_sort.h>
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "integrators/progressive_radius.h"
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
 #include "media/dda.h"
@@ -40,79 +39,25 @@ constexpr int kMostSegments = 16;
 // Bytes a photon takes while its iteration's map is built (the photon and
 // its sort key and index).
 constexpr uint64_t kPhotonBytes = sizeof(PhotonMap::Photon) + 16;
-// Cells per axis a map's keys can tell apart.
-constexpr int64_t kCellsPerAxis = int64_t(1) << 21;
 }  // namespace
 
-PhotonMap::PhotonMap(std::vector<Photon> photons, float radius_mm) : radius_mm_(radius_mm) {
+namespace {
+Point3f lowestCorner(const std::vector<PhotonMap::Photon>& photons) {
     Point3f lo{1e30f, 1e30f, 1e30f};
-    for (const Photon& ph : photons)
+    for (const PhotonMap::Photon& ph : photons)
         for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], ph.p[a]);
-    origin_mm_ = photons.empty() ? Point3f{0, 0, 0} : lo;
-    // Sorted by (cell, index): one order whatever the threads.
-    std::vector<std::pair<uint64_t, uint32_t>> order(photons.size());
-    for (size_t i = 0; i < photons.size(); ++i) order[i] = {keyOf(cellOf(photons[i].p)), uint32_t(i)};
-    tbb::parallel_sort(order.begin(), order.end());
-    photons_.resize(photons.size());
-    for (size_t i = 0; i < order.size(); ++i) {
-        photons_[i] = photons[order[i].second];
-        if (i == 0 || order[i].first != order[i - 1].first) {
-            keys_.push_back(order[i].first);
-            starts_.push_back(uint32_t(i));
-        }
-    }
-    starts_.push_back(uint32_t(photons_.size()));
+    return photons.empty() ? Point3f{0, 0, 0} : lo;
 }
+}  // namespace
 
-Vec3i PhotonMap::cellOf(const Point3f& p) const {
-    const Vec3f q = (p - origin_mm_) * (1.0f / radius_mm_);
-    return {int(std::floor(q.x)), int(std::floor(q.y)), int(std::floor(q.z))};
-}
-
-uint64_t PhotonMap::keyOf(const Vec3i& cell) const {
-    for (int a = 0; a < 3; ++a)
-        if (cell[a] < 0 || cell[a] >= kCellsPerAxis) return ~uint64_t(0);  // holds no photon
-    return (uint64_t(cell.x) << 42) | (uint64_t(cell.y) << 21) | uint64_t(cell.z);
-}
-
-void PhotonMap::cellsNear(const Ray& ray, float tMax_mm, std::vector<uint64_t>& keys) const {
-    keys.clear();
-    if (photons_.empty()) return;
-    // The segment in cell units (t stays in millimetres), walked cell by
-    // cell inside the box of its ends, one cell wider.
-    const float inv = 1.0f / radius_mm_;
-    const Vec3f o = (ray.o - origin_mm_) * inv, d = ray.d * inv;
-    const Vec3f e = o + d * tMax_mm;
-    Vec3i lo, hi;
-    for (int a = 0; a < 3; ++a) {
-        lo[a] = int(std::floor(std::min(o[a], e[a]))) - 1;
-        hi[a] = int(std::floor(std::max(o[a], e[a]))) + 2;
-    }
-    GridDda dda(o, d, 0.0f, tMax_mm, lo, hi);
-    DdaSegment segment;
-    while (dda.next(segment))
-        for (int z = -1; z <= 1; ++z)
-            for (int y = -1; y <= 1; ++y)
-                for (int x = -1; x <= 1; ++x) {
-                    const uint64_t key = keyOf(segment.cell + Vec3i{x, y, z});
-                    if (key != ~uint64_t(0)) keys.push_back(key);
-                }
-    std::sort(keys.begin(), keys.end());
-    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-}
-
-template <class F>
-void PhotonMap::forEachNear(const Ray& ray, float tMax_mm, F&& f) const {
-    thread_local std::vector<uint64_t> keys;
-    cellsNear(ray, tMax_mm, keys);
-    auto from = keys_.begin();
-    for (uint64_t key : keys) {
-        from = std::lower_bound(from, keys_.end(), key);
-        if (from == keys_.end()) return;
-        if (*from != key) continue;
-        const size_t k = size_t(from - keys_.begin());
-        for (uint32_t i = starts_[k]; i < starts_[k + 1]; ++i) f(photons_[i]);
-    }
+PhotonMap::PhotonMap(std::vector<Photon> photons, float radius_mm)
+    : radius_mm_(radius_mm), grid_(radius_mm, lowestCorner(photons)) {
+    std::vector<std::pair<uint64_t, uint32_t>> entries(photons.size());
+    for (size_t i = 0; i < photons.size(); ++i) entries[i] = {grid_.keyOf(grid_.cellOf(photons[i].p)), uint32_t(i)};
+    grid_.fill(std::move(entries));
+    // Stored in the grid's order: a cell's photons lie together.
+    photons_.resize(grid_.entries());
+    for (size_t i = 0; i < photons_.size(); ++i) photons_[i] = photons[grid_.itemAt(i)];
 }
 
 Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed)
@@ -144,9 +89,7 @@ std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor
 }
 
 float Bre::radiusAt_mm(uint32_t iteration) const {
-    double r2 = 1.0;
-    for (uint32_t j = 1; j < iteration; ++j) r2 *= (double(j) + options_.alpha) / double(j + 1);
-    return float(double(options_.radius_voxels * smallestVoxel_mm_) * std::sqrt(r2));
+    return progressiveRadius_mm(options_.radius_voxels * smallestVoxel_mm_, options_.alpha, 2, iteration);
 }
 
 PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {

@@ -28,6 +28,7 @@
 
 #include "core/mesh_point_sampler.h"
 #include "core/option_table.h"
+#include "integrators/cell_grid.h"
 #include "integrators/integrator.h"
 #include "integrators/volpath.h"
 
@@ -45,9 +46,9 @@ struct BreOptions {
 // Its options by their scene-file names (core/option_table.h).
 const std::vector<OptionParameter<BreOptions>>& breParameters();
 
-// The photons of one iteration in one channel, sorted by the cell of a
-// uniform grid whose side is the kernel radius: a query visits the cells
-// within one cell of the cells its segment crosses.
+// The photons of one iteration in one channel, filed by the cell of a
+// grid whose side is the kernel radius: a query visits the cells within
+// one cell of the cells its segment crosses.
 class PhotonMap {
 public:
     struct Photon {
@@ -62,17 +63,16 @@ public:
     // Calls f(photon) for every photon within one cell of a cell that
     // ray.at([0, tMax_mm]) crosses, each once, in a fixed order.
     template <class F>
-    void forEachNear(const Ray& ray, float tMax_mm, F&& f) const;
+    void forEachNear(const Ray& ray, float tMax_mm, F&& f) const {
+        thread_local std::vector<uint64_t> keys;
+        grid_.cellsNear(ray, tMax_mm, keys);
+        grid_.forEachItem(keys, [&](size_t position, uint32_t) { f(photons_[position]); });
+    }
 
 private:
-    uint64_t keyOf(const Vec3i& cell) const;
-    Vec3i cellOf(const Point3f& p) const;
-    void cellsNear(const Ray& ray, float tMax_mm, std::vector<uint64_t>& keys) const;
-    std::vector<Photon> photons_;   // sorted by cell key
-    std::vector<uint64_t> keys_;    // each distinct cell key, ascending
-    std::vector<uint32_t> starts_;  // where each key's photons start (one more at the end)
+    std::vector<Photon> photons_;  // in the grid's order
     float radius_mm_;
-    Point3f origin_mm_;
+    CellGrid grid_;
 };
 
 class Bre : public Integrator {

@@ -11,6 +11,7 @@
 #include "core/option_table.h"
 #include "integrators/bre.h"
 #include "integrators/lighttrace.h"
+#include "integrators/photon_beams.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
 
@@ -38,6 +39,7 @@ struct RenderSettings {
     PrintPtOptions printpt;
     LightTraceOptions lighttrace;
     BreOptions bre;
+    BeamOptions beams;  // pb2d and bb1d
     // The learned predictor's model (io/learned_model_io.h): by default the
     // one beside the scene's material table.
     std::filesystem::path learnedModel;

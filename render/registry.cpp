@@ -2,10 +2,12 @@
 
 #include <stdexcept>
 
+#include "integrators/bb1d.h"
 #include "integrators/bre.h"
 #include "integrators/diffusion.h"
 #include "integrators/learned.h"
 #include "integrators/lighttrace.h"
+#include "integrators/pb2d.h"
 #include "integrators/printpt.h"
 #include "integrators/volpath.h"
 
@@ -20,6 +22,8 @@ std::deque<IntegratorKind>& kinds() {
         {"diffusion", factoryOf<Diffusion>()},
         {"learned", factoryOf<Learned>()},
         {"bre", factoryOf<Bre>()},
+        {"pb2d", factoryOf<Pb2d>()},
+        {"bb1d", factoryOf<Bb1d>()},
     };
     return all;
 }

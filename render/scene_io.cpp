@@ -159,6 +159,7 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
         for (const auto& p : lightTraceParameters()) keys.push_back(p.name);
         for (const auto& p : printPtParameters()) keys.push_back(p.name);
         for (const auto& p : breParameters()) keys.push_back(p.name);
+        for (const auto& p : beamParameters()) keys.push_back(p.name);
         json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
         if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
@@ -178,6 +179,7 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
         readOptions(json, ren, lightTraceParameters(), r.lighttrace);
         readOptions(json, ren, printPtParameters(), r.printpt);
         readOptions(json, ren, breParameters(), r.bre);
+        readOptions(json, ren, beamParameters(), r.beams);
         if (std::string why = refusalOf(r); !why.empty()) json.fail("render.integrator", why);
     }
     if (!(capabilitiesOf(r).sensors & sensorKindOf(s)))
@@ -258,6 +260,7 @@ nlohmann::ordered_json renderBlockOf(const SceneDescription& d, const std::files
     writeOptions(lightTraceParameters(), r.lighttrace, defaults.lighttrace, ren);
     writeOptions(printPtParameters(), r.printpt, defaults.printpt, ren);
     writeOptions(breParameters(), r.bre, defaults.bre, ren);
+    writeOptions(beamParameters(), r.beams, defaults.beams, ren);
     return ren;
 }
 

@@ -1,17 +1,12 @@
 // bre (integrators/bre.h): the radius schedule, the white furnace, and
 // agreement with volpath on homogeneous boxes with and without a refractive
-// boundary and on a halftoned box, over the voxels in the middle of the faces (the kernel's disc
-// around a query along a face's normal lies parallel to the face: nothing
-// blurs across it there; at edges and corners the disc reaches past the
-// object, where no photons are, a bias that shrinks with the radius). The
-// object mean's error comes from the spread of the iterations' means (each
-// iteration its own photons).
+// boundary and on a halftoned box, over the voxels in the middle of the
+// faces (tests/progressive_estimate.h).
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
 #include "integrators/bre.h"
-#include "render/registry.h"
-#include "render_estimate.h"
+#include "progressive_estimate.h"
 #include "test_util.h"
 
 namespace pl {
@@ -22,80 +17,14 @@ using test::material;
 const Vec3i kResolution{14, 12, 10};
 const Vec3f kVoxel_mm{0.05f, 0.04f, 0.06f};  // anisotropic on purpose
 
-// Surface voxels in the middle of a face: one coordinate on the box's side,
-// the others at least three voxels from its edges.
-bool inFaceMiddle(const Vec3i& v) {
-    int onSide = 0;
-    bool farFromEdges = true;
-    for (int a = 0; a < 3; ++a) {
-        const bool side = v[a] == 0 || v[a] == kResolution[a] - 1;
-        onSide += side;
-        if (!side) farFromEdges = farFromEdges && v[a] >= 3 && v[a] < kResolution[a] - 3;
-    }
-    return onSide == 1 && farFromEdges;
-}
-
-struct IterationMeans {
-    RenderResult result;
-    test::Estimate faceMiddle;  // the mean over the face-middle voxels, from the iterations' spread
-};
+using test::IterationMeans;
 
 IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_t seed, BreOptions options = {}) {
-    const LabelGrid& g = scene.medium->grid();
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
     RenderSettings s;
     s.integrator = "bre";
     s.seed = seed;
     s.bre = options;
-    const auto integrator = makeIntegrator(scene, sensor, s);
-    IterationMeans out{RenderResult{Film(sensor.pixelCount())}, {}};
-    std::vector<size_t> middle;
-    for (size_t p = 0; p < sensor.pixelCount(); ++p)
-        if (inFaceMiddle(sensor.pixels()[p].voxel)) middle.push_back(p);
-    EXPECT_GT(middle.size(), 100u);
-    double previous[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
-    for (uint32_t it = 0; it < iterations; ++it) {
-        renderSamples(*integrator, scene, sensor, s, {}, it, 1, out.result);
-        for (int c = 0; c < 3; ++c) {
-            double total = 0;
-            for (size_t p : middle) total += double(out.result.film.mean(p, c)) * out.result.film.samples(p, c);
-            const double iterationMean = (total - previous[c]) / double(middle.size());
-            previous[c] = total;
-            sum[c] += iterationMean;
-            sumSq[c] += iterationMean * iterationMean;
-        }
-    }
-    for (int c = 0; c < 3; ++c) {
-        const double mean = sum[c] / iterations;
-        const double variance = std::max(0.0, (sumSq[c] - iterations * mean * mean) / (iterations - 1.0));
-        out.faceMiddle.mean[c] = float(mean);
-        out.faceMiddle.standardError[c] = float(std::sqrt(variance / iterations));
-    }
-    return out;
-}
-
-// volpath's mean over the same voxels.
-test::Estimate volpathFaceMiddle(const Scene& scene, uint32_t spp) {
-    const LabelGrid& g = scene.medium->grid();
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
-    RenderSettings s;
-    s.spp = spp;
-    s.seed = 5;
-    const RenderResult r = render(scene, sensor, s);
-    test::Estimate e{};
-    for (int c = 0; c < 3; ++c) {
-        double sum = 0, var = 0;
-        size_t n = 0;
-        for (size_t p = 0; p < sensor.pixelCount(); ++p) {
-            if (!inFaceMiddle(sensor.pixels()[p].voxel)) continue;
-            sum += r.film.mean(p, c);
-            var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
-            ++n;
-        }
-        e.mean[c] = float(sum / double(n));
-        e.standardError[c] = float(std::sqrt(var) / double(n));
-    }
-    return e;
+    return test::renderIterations(scene, s, iterations);
 }
 
 TEST(Bre, RadiusShrinksAsScheduled) {
@@ -137,13 +66,8 @@ TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) {
                                      test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})}}),
                                      ior);
         const IterationMeans bre = renderIterations(scene, 12, 7);
-        const test::Estimate reference = volpathFaceMiddle(scene, 256);
-        for (int c = 0; c < 3; ++c) {
-            EXPECT_GT(bre.faceMiddle.mean[c], 0.02f);
-            EXPECT_NEAR(bre.faceMiddle.mean[c], reference.mean[c],
-                        5.0 * std::hypot(bre.faceMiddle.standardError[c], reference.standardError[c]))
-                << "IOR " << ior << ", channel " << c;
-        }
+        test::expectFaceMiddlesAgree(bre.faceMiddle, test::volpathFaceMiddle(scene, 256),
+                                     "IOR " + std::to_string(ior));
     }
 }
 
@@ -166,13 +90,7 @@ TEST(Bre, AgreesWithVolpathOnAHalftonedBox) {
     BreOptions o;
     o.radius_voxels = 0.5f;
     const IterationMeans bre = renderIterations(scene, 16, 9, o);
-    const test::Estimate reference = volpathFaceMiddle(scene, 256);
-    for (int c = 0; c < 3; ++c) {
-        EXPECT_GT(bre.faceMiddle.mean[c], 0.02f);
-        EXPECT_NEAR(bre.faceMiddle.mean[c], reference.mean[c],
-                    5.0 * std::hypot(bre.faceMiddle.standardError[c], reference.standardError[c]))
-            << "channel " << c;
-    }
+    test::expectFaceMiddlesAgree(bre.faceMiddle, test::volpathFaceMiddle(scene, 256), "halftoned box");
 }
 
 TEST(Bre, SameBitsWhateverTheThreads) {

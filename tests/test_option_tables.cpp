@@ -49,9 +49,11 @@ TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
     expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
     expectDeclaredOnceAndDocumented(breParameters(), names, doc);
+    expectDeclaredOnceAndDocumented(beamParameters(), names, doc);
     // One render block: no key in two tables.
     EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
-                                printPtParameters().size() + breParameters().size());
+                                printPtParameters().size() + breParameters().size() +
+                                beamParameters().size());
 }
 
 }  // namespace

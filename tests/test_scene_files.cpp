@@ -61,6 +61,7 @@ void expectSameScene(const SceneDescription& a, const SceneDescription& b) {
     expectSameOptions(lightTraceParameters(), ra.lighttrace, rb.lighttrace);
     expectSameOptions(printPtParameters(), ra.printpt, rb.printpt);
     expectSameOptions(breParameters(), ra.bre, rb.bre);
+    expectSameOptions(beamParameters(), ra.beams, rb.beams);
     EXPECT_EQ(a.output, b.output);
 }
 
@@ -103,6 +104,7 @@ TEST(SceneFiles, WrittenScenesReadBackTheSame) {
     moveAll(lightTraceParameters(), d.render.lighttrace);
     moveAll(printPtParameters(), d.render.printpt);
     moveAll(breParameters(), d.render.bre);
+    moveAll(beamParameters(), d.render.beams);
     d.output = "out/elsewhere";
     writeScene(d, dir / "every_key.json");
     expectSameScene(d, parseScene(dir / "every_key.json"));

@@ -1,0 +1,62 @@
+#include "integrators/bb1d.h"
+
+#include <cmath>
+
+#include "core/sampling.h"
+#include "integrators/render_settings.h"
+#include "integrators/volume_walk.h"
+
+namespace pl {
+
+std::unique_ptr<Integrator> Bb1d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+                                         std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Bb1d>(scene, sensor, s.beams, s.majorants, s.seed);
+}
+
+namespace {
+// Beams closer to parallel than this (sin^2 of the angle) are left out: a
+// set of measure zero whose 1 / sin would only add round-off.
+constexpr float kLeastSin2 = 1e-6f;
+}  // namespace
+
+float Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+               PathStats& stats) const {
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    const float r2 = map.radius_mm() * map.radius_mm();
+    const double kernelScale = 16.0 / (5.0 * kPi * double(map.radius_mm()));
+    double gathered = 0;
+    auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& path) {
+        thread_local BeamSum sum;
+        sum.clear();
+        map.forEachNearSegment(flight, tEnd_mm, [&](uint32_t i) {
+            const PhotonBeam& b = map.beam(i);
+            // The closest points of the two lines: flight.at(t), b.o + s b.d.
+            const Vec3f w = flight.o - b.o;
+            const float c = dot(flight.d, b.d);
+            const float sin2 = 1.0f - c * c;
+            if (!(sin2 > kLeastSin2)) return;
+            const float dw = dot(b.d, w), uw = dot(flight.d, w);
+            const float t = (c * dw - uw) / sin2;
+            if (t < 0.0f || t > tEnd_mm) return;
+            const float s = dw + c * t;
+            if (s < 0.0f || s > b.length_mm) return;
+            const Vec3f between = w + flight.d * t - b.d * s;
+            const float d2 = dot(between, between);
+            if (!(d2 < r2)) return;
+            const Label l = medium.labelAt(scene_.medium->voxelAt(flight.at(t)));
+            const double sigmaS = double(lut.sigmaT_perMm[l]) * lut.albedo[l];
+            const double u = 1.0 - double(d2) / r2;
+            const double k1 = kernelScale * u * u * std::sqrt(u);
+            sum.add(i, sigmaS * k1 / std::sqrt(double(sin2)) * hgPhase(dot(b.d, -flight.d), lut.g[l]) *
+                           double(b.power));
+        });
+        gathered += double(path.beta) * sum.total();
+    };
+    SingleChannelPath path{&lut, channel, scene_.environment[channel]};
+    const float escaped =
+        walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats, onFlight,
+                   [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
+    return escaped + float(gathered * insideToOutside());
+}
+
+}  // namespace pl

@@ -1,0 +1,42 @@
+#include "integrators/pb2d.h"
+
+#include "core/sampling.h"
+#include "integrators/render_settings.h"
+#include "integrators/volume_walk.h"
+
+namespace pl {
+
+std::unique_ptr<Integrator> Pb2d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
+                                         std::shared_ptr<HalfSpaceMeans>) {
+    return std::make_unique<Pb2d>(scene, sensor, s.beams, s.majorants, s.seed);
+}
+
+float Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+               PathStats& stats) const {
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    const float r2 = map.radius_mm() * map.radius_mm();
+    const double kernelScale = 3.0 / (kPi * double(r2));
+    double gathered = 0;
+    auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
+        thread_local BeamSum sum;
+        sum.clear();
+        const float g = lut.g[label];
+        map.forEachNearPoint(x, [&](uint32_t i) {
+            const PhotonBeam& b = map.beam(i);
+            const Vec3f v = x - b.o;
+            const float s = dot(v, b.d);
+            if (s < 0.0f || s > b.length_mm) return;
+            const float d2 = dot(v, v) - s * s;
+            if (!(d2 < r2)) return;
+            const double w = 1.0 - double(d2) / r2;
+            sum.add(i, kernelScale * w * w * hgPhase(dot(b.d, -dIn), g) * double(b.power));
+        });
+        gathered += double(path.beta) * sum.total();
+    };
+    SingleChannelPath path{&lut, channel, scene_.environment[channel]};
+    const float escaped = walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats,
+                                     [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
+    return escaped + float(gathered * insideToOutside());
+}
+
+}  // namespace pl

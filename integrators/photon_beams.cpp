@@ -1,0 +1,154 @@
+#include "integrators/photon_beams.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "integrators/progressive_radius.h"
+#include "integrators/render_settings.h"
+#include "integrators/volume_walk.h"
+#include "runtime/interrupt.h"
+#include "runtime/memory_budget.h"
+#include "runtime/scheduler.h"
+
+namespace pl {
+
+const std::vector<OptionParameter<BeamOptions>>& beamParameters() {
+    using O = BeamOptions;
+    static const std::vector<OptionParameter<O>> parameters = {
+        {"beams_photons_per_pixel", &O::photonsPerPixel, 0, 1e6, true, "must be in (0, 1e6]",
+         "pb2d, bb1d: photons traced per iteration (sample) for each sensor pixel"},
+        {"beams_radius_voxels", &O::radius_voxels, 0, 100, true, "must be in (0, 100] (voxel sides)",
+         "pb2d, bb1d: the first iteration's kernel radius, in the smallest voxel side"},
+        {"beams_alpha", &O::alpha, 0, 1, true, "must be in (0, 1]",
+         "pb2d, bb1d: the kernel's measure (r^2, r) shrinks by (i + alpha) / (i + 1); 1 keeps the radius"},
+    };
+    return parameters;
+}
+
+namespace {
+// Bytes a beam takes while its iteration's map is built: the beam in its
+// part and in the map, and its cells' entries (a beam crosses about three
+// cells of the radius' side).
+constexpr uint64_t kBeamBytes = 2 * sizeof(PhotonBeam) + 3 * (16 + 4);
+}  // namespace
+
+PhotonBeamMap::PhotonBeamMap(std::vector<PhotonBeam> beams, float radius_mm, const Point3f& origin_mm)
+    : beams_(std::move(beams)), radius_mm_(radius_mm), grid_(radius_mm, origin_mm) {
+    std::vector<std::pair<uint64_t, uint32_t>> entries;
+    entries.reserve(beams_.size() * 2);
+    for (size_t i = 0; i < beams_.size(); ++i) {
+        const PhotonBeam& b = beams_[i];
+        grid_.forEachCellCrossed(Ray{b.o, b.d}, b.length_mm,
+                                 [&](uint64_t key) { entries.push_back({key, uint32_t(i)}); });
+    }
+    grid_.fill(std::move(entries));
+}
+
+double BeamSum::total() {
+    std::sort(terms_.begin(), terms_.end());
+    double sum = 0;
+    for (size_t i = 0; i < terms_.size(); ++i)
+        if (i == 0 || terms_[i].first != terms_[i - 1].first) sum += terms_[i].second;
+    return sum;
+}
+
+PhotonBeamEstimator::PhotonBeamEstimator(const Scene& scene, const Sensor& sensor, BeamOptions options,
+                                         int kernelDimensions, Majorants majorants, uint64_t seed)
+    : scene_(scene),
+      majorants_(majorants),
+      photonsPerIteration_(std::max<uint64_t>(
+          1, uint64_t(std::llround(double(options.photonsPerPixel) * double(sensor.pixelCount()))))),
+      options_(options),
+      kernelDimensions_(kernelDimensions),
+      photonSeed_(mix64(seed ^ 0x6265616dULL)),
+      entries_(*scene.geometry) {
+    const Vec3f v = scene.medium->frame().voxelSize_mm;
+    smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
+    // Every photon that enters leaves one beam at least; how many more
+    // depends on the resins (hundreds in white): the tracing stops with
+    // this error when the beams outgrow the memory.
+    const uint64_t inUse = memoryInUseBytes(), budget = memoryBudgetBytes();
+    if (auto why = memoryShortfall(photonsPerIteration_ * kBeamBytes,
+                                   std::to_string(photonsPerIteration_) + " photon beams an iteration", inUse))
+        throw std::runtime_error("photon beams: " + *why);
+    mostBeams_ = (budget - inUse) / kBeamBytes;
+}
+
+IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) {
+    IntegratorCapabilities c;
+    c.needs = {false, true};  // volpath's walk looks for the clearance first
+    c.lightPathsServeEveryPixel = true;
+    return c;
+}
+
+float PhotonBeamEstimator::radiusAt_mm(uint32_t iteration) const {
+    return progressiveRadius_mm(options_.radius_voxels * smallestVoxel_mm_, options_.alpha, kernelDimensions_,
+                                iteration);
+}
+
+PhotonBeamMap PhotonBeamEstimator::traceBeams(int channel, uint32_t sample, PathStats& stats) const {
+    const ChannelLut& lut = scene_.medium->lut(channel);
+    const float Le = scene_.environment[channel];
+    const uint64_t count = photonsPerIteration_;
+    // Each photon carries the power the environment sends into the object
+    // (Le pi A) over the count; cosine-weighted directions cancel the pi.
+    const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
+    const uint64_t mostPerPart = mostBeams_ / kParts;
+    std::vector<std::vector<PhotonBeam>> parts(kParts);
+    std::vector<PathStats> partStats(kParts);
+    if (Le > 0.0f)
+        parallelForTiles(kParts, 1, [&](size_t begin, size_t end) {
+            LabelMedium::Tracker medium(*scene_.medium, majorants_);
+            for (size_t part = begin; part < end; ++part) {
+                std::vector<PhotonBeam>& stored = parts[part];
+                for (uint64_t i = count * part / kParts; i < count * (part + 1) / kParts; ++i) {
+                    if (interruptRequested()) return;
+                    Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
+                    const SurfaceHit entry = entries_.sample(rng);
+                    SingleChannelPath path{&lut, channel, Le};
+                    auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& p) {
+                        if (tEnd_mm > 0.0f) stored.push_back({flight.o, flight.d, tEnd_mm, float(power * p.beta)});
+                    };
+                    walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats[part], onFlight,
+                                   [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
+                    if (stored.size() > mostPerPart)
+                        throw std::runtime_error(
+                            "photon beams: one iteration's beams outgrow the memory (" +
+                            std::to_string(stored.size()) + " from " +
+                            std::to_string(i + 1 - count * part / kParts) + " of " + std::to_string(count) +
+                            " photons, room for " + std::to_string(mostBeams_) +
+                            "): lower beams_photons_per_pixel");
+                }
+            }
+        });
+    std::vector<PhotonBeam> beams;
+    size_t total = 0;
+    for (const auto& part : parts) total += part.size();
+    beams.reserve(total);
+    for (size_t part = 0; part < kParts; ++part) {
+        beams.insert(beams.end(), parts[part].begin(), parts[part].end());
+        std::vector<PhotonBeam>().swap(parts[part]);
+        stats += partStats[part];
+    }
+    // Cells from the object's lowest corner (no beam lies below it).
+    const Point3f origin = scene_.geometry->bounds().lo - Vec3f{1, 1, 1} * radiusAt_mm(sample + 1);
+    return PhotonBeamMap(std::move(beams), radiusAt_mm(sample + 1), origin);
+}
+
+void PhotonBeamEstimator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
+    if (pass.channel < 0) throw std::logic_error("the photon beam estimators render one channel per pass");
+    const PixelShare& share = pass.share;
+    for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
+        const PhotonBeamMap map = traceBeams(pass.channel, s, stats);
+        renderPixelTiles(pass, stats, progress, 1, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
+            const size_t p = share.pixel(i);
+            Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
+            const float u0 = rng.uniform(), u1 = rng.uniform();
+            const float value = Li(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium, rng, tileStats);
+            film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
+        });
+    }
+}
+
+}  // namespace pl

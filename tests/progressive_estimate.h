@@ -1,0 +1,105 @@
+// The progressive photon estimators' tests share this: a box's surface
+// voxels in the middle of its faces (the kernel around a query there sees
+// medium all round: nothing blurs across the face; at edges and corners it
+// reaches past the object, where no photons are, a bias that shrinks with
+// the radius), their mean over iterations with its error from the spread of
+// the iterations' means (each iteration its own photons), and volpath's
+// mean over the same voxels.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "render/registry.h"
+#include "render_estimate.h"
+
+namespace pl::test {
+
+// One coordinate on the box's side, the others at least three voxels from its edges.
+inline bool inFaceMiddle(const Vec3i& v, const Vec3i& resolution) {
+    int onSide = 0;
+    bool farFromEdges = true;
+    for (int a = 0; a < 3; ++a) {
+        const bool side = v[a] == 0 || v[a] == resolution[a] - 1;
+        onSide += side;
+        if (!side) farFromEdges = farFromEdges && v[a] >= 3 && v[a] < resolution[a] - 3;
+    }
+    return onSide == 1 && farFromEdges;
+}
+
+struct IterationMeans {
+    RenderResult result;
+    Estimate faceMiddle;  // the mean over the face-middle voxels, from the iterations' spread
+};
+
+// `settings` (its integrator and options) run for `iterations` samples, one at a time.
+inline IterationMeans renderIterations(const Scene& scene, const RenderSettings& settings, uint32_t iterations) {
+    const LabelGrid& g = scene.medium->grid();
+    const GridFrame& frame = g.frame();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    const auto integrator = makeIntegrator(scene, sensor, settings);
+    IterationMeans out{RenderResult{Film(sensor.pixelCount())}, {}};
+    std::vector<size_t> middle;
+    for (size_t p = 0; p < sensor.pixelCount(); ++p)
+        if (inFaceMiddle(sensor.pixels()[p].voxel - frame.indexMin, frame.resolution)) middle.push_back(p);
+    EXPECT_GT(middle.size(), 100u);
+    double previous[3] = {0, 0, 0}, sum[3] = {0, 0, 0}, sumSq[3] = {0, 0, 0};
+    for (uint32_t it = 0; it < iterations; ++it) {
+        renderSamples(*integrator, scene, sensor, settings, {}, it, 1, out.result);
+        for (int c = 0; c < 3; ++c) {
+            double total = 0;
+            for (size_t p : middle) total += double(out.result.film.mean(p, c)) * out.result.film.samples(p, c);
+            const double iterationMean = (total - previous[c]) / double(middle.size());
+            previous[c] = total;
+            sum[c] += iterationMean;
+            sumSq[c] += iterationMean * iterationMean;
+        }
+    }
+    for (int c = 0; c < 3; ++c) {
+        const double mean = sum[c] / iterations;
+        const double variance = std::max(0.0, (sumSq[c] - iterations * mean * mean) / (iterations - 1.0));
+        out.faceMiddle.mean[c] = float(mean);
+        out.faceMiddle.standardError[c] = float(std::sqrt(variance / iterations));
+    }
+    return out;
+}
+
+// volpath's mean over the same voxels.
+inline Estimate volpathFaceMiddle(const Scene& scene, uint32_t spp) {
+    const LabelGrid& g = scene.medium->grid();
+    const GridFrame& frame = g.frame();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    RenderSettings s;
+    s.spp = spp;
+    s.seed = 5;
+    const RenderResult r = render(scene, sensor, s);
+    Estimate e{};
+    for (int c = 0; c < 3; ++c) {
+        double sum = 0, var = 0;
+        size_t n = 0;
+        for (size_t p = 0; p < sensor.pixelCount(); ++p) {
+            if (!inFaceMiddle(sensor.pixels()[p].voxel - frame.indexMin, frame.resolution)) continue;
+            sum += r.film.mean(p, c);
+            var += double(r.film.standardError(p, c)) * r.film.standardError(p, c);
+            ++n;
+        }
+        e.mean[c] = float(sum / double(n));
+        e.standardError[c] = float(std::sqrt(var) / double(n));
+    }
+    return e;
+}
+
+// Within 5 combined standard errors, per channel, and not dark.
+inline void expectFaceMiddlesAgree(const Estimate& estimate, const Estimate& reference, const std::string& what) {
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_GT(estimate.mean[c], 0.02f) << what << ", channel " << c;
+        EXPECT_NEAR(estimate.mean[c], reference.mean[c],
+                    5.0 * std::hypot(estimate.standardError[c], reference.standardError[c]))
+            << what << ", channel " << c;
+    }
+}
+
+}  // namespace pl::test

@@ -1,0 +1,168 @@
+// pb2d and bb1d (integrators/photon_beams.h): the beam map finds every beam
+// near a point or a segment, the radius schedules, the white furnace, and
+// agreement with volpath on homogeneous boxes with and without a refractive
+// boundary and on a halftoned box, over the voxels in the middle of the
+// faces (tests/progressive_estimate.h).
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <set>
+
+#include "core/sampling.h"
+
+#include "integrators/bb1d.h"
+#include "integrators/pb2d.h"
+#include "progressive_estimate.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+using test::IterationMeans;
+using test::material;
+
+const Vec3i kResolution{14, 12, 10};
+const Vec3f kVoxel_mm{0.05f, 0.04f, 0.06f};  // anisotropic on purpose
+const char* const kEstimators[] = {"pb2d", "bb1d"};
+
+IterationMeans renderIterations(const Scene& scene, const char* integrator, uint32_t iterations, uint64_t seed,
+                                BeamOptions options = {}) {
+    RenderSettings s;
+    s.integrator = integrator;
+    s.seed = seed;
+    s.beams = options;
+    return test::renderIterations(scene, s, iterations);
+}
+
+// Beams of every length and direction, and points and segments among them:
+// what the map visits holds every beam within the radius (by brute force).
+TEST(PhotonBeams, MapFindsEveryBeamWithinTheRadius) {
+    Rng rng(7, 0);
+    auto point = [&] { return Point3f{rng.uniform(), rng.uniform(), rng.uniform()}; };
+    // Isotropic phase sampling: uniform on the sphere.
+    auto direction = [&] { return sampleHG(Vec3f{0, 0, 1}, 0.0f, rng.uniform(), rng.uniform()).dOut; };
+    std::vector<PhotonBeam> beams;
+    for (int i = 0; i < 2000; ++i) beams.push_back({point(), direction(), 0.3f * rng.uniform(), 1.0f});
+    const float r = 0.04f;
+    const PhotonBeamMap map(beams, r, Point3f{-0.5f, -0.5f, -0.5f});
+    auto distanceToBeam = [](const PhotonBeam& b, const Point3f& x) {
+        const float s = std::min(std::max(dot(x - b.o, b.d), 0.0f), b.length_mm);
+        return length(x - b.at(s));
+    };
+    for (int q = 0; q < 300; ++q) {
+        const Point3f x = point();
+        std::set<uint32_t> visited;
+        map.forEachNearPoint(x, [&](uint32_t i) { visited.insert(i); });
+        for (uint32_t i = 0; i < beams.size(); ++i) {
+            if (!(distanceToBeam(beams[i], x) < r)) continue;
+            EXPECT_TRUE(visited.count(i)) << "query " << q << ", beam " << i;
+        }
+        // A segment: every beam within r of a point along it.
+        const Ray segment{x, direction()};
+        const float tMax = 0.2f;
+        visited.clear();
+        map.forEachNearSegment(segment, tMax, [&](uint32_t i) { visited.insert(i); });
+        for (int k = 0; k <= 20; ++k) {
+            const Point3f y = segment.at(tMax * k / 20.0f);
+            for (uint32_t i = 0; i < beams.size(); ++i) {
+                if (!(distanceToBeam(beams[i], y) < r)) continue;
+                EXPECT_TRUE(visited.count(i)) << "segment " << q << ", beam " << i;
+            }
+        }
+    }
+}
+
+TEST(PhotonBeams, RadiusShrinksWithTheKernelsDimensions) {
+    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.9f, 0.9f})}}), 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    BeamOptions o;
+    o.radius_voxels = 2.0f;
+    o.alpha = 0.5f;
+    const Pb2d pb2d(scene, sensor, o, Majorants::PerBrick, 1);
+    const Bb1d bb1d(scene, sensor, o, Majorants::PerBrick, 1);
+    EXPECT_FLOAT_EQ(pb2d.radiusAt_mm(1), 2.0f * 0.04f);  // the smallest voxel side
+    EXPECT_FLOAT_EQ(bb1d.radiusAt_mm(1), 2.0f * 0.04f);
+    for (uint32_t i = 1; i < 50; ++i) {
+        const double shrink = (i + 0.5) / (i + 1.0);
+        EXPECT_NEAR(std::pow(double(pb2d.radiusAt_mm(i + 1)) / pb2d.radiusAt_mm(i), 2.0), shrink, 1e-5) << i;
+        EXPECT_NEAR(double(bb1d.radiusAt_mm(i + 1)) / bb1d.radiusAt_mm(i), shrink, 1e-5) << i;
+    }
+    o.alpha = 1.0f;
+    const Bb1d kept(scene, sensor, o, Majorants::PerBrick, 1);
+    EXPECT_FLOAT_EQ(kept.radiusAt_mm(40), kept.radiusAt_mm(1));
+}
+
+// No absorption: the light leaving is the environment's, L = Le, on the
+// face middles within the iterations' error.
+TEST(PhotonBeams, WhiteFurnaceIsTheEnvironment) {
+    for (const char* estimator : kEstimators)
+        for (float ior : {1.0f, 1.5f}) {
+            Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                         test::tableOf({{1, material({8, 12, 20}, {1, 1, 1}, {0, 0.3f, 0.6f})}}), ior);
+            const IterationMeans r = renderIterations(scene, estimator, 12, 3);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
+                    << estimator << ", IOR " << ior << ", channel " << c;
+        }
+}
+
+TEST(PhotonBeams, AgreeWithVolpathOnHomogeneousBoxes) {
+    for (float ior : {1.0f, 1.5f}) {
+        Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
+                                     test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})}}),
+                                     ior);
+        const test::Estimate reference = test::volpathFaceMiddle(scene, 256);
+        for (const char* estimator : kEstimators)
+            test::expectFaceMiddlesAgree(renderIterations(scene, estimator, 12, 7).faceMiddle, reference,
+                                         std::string(estimator) + ", IOR " + std::to_string(ior));
+    }
+}
+
+// A skin of one resin over a halftone of two denser ones at the voxel
+// scale (bre's test): beams cross voxels of every label, and bb1d's sigma_s
+// is the voxel's at each closest point. A first radius of half a voxel
+// keeps the kernel's blur across columns below the iterations' error.
+TEST(PhotonBeams, AgreeWithVolpathOnAHalftonedBox) {
+    auto labelOf = [](const Vec3i& v) {
+        int depth = 1 << 30;
+        for (int a = 0; a < 3; ++a) depth = std::min(depth, std::min(v[a], kResolution[a] - 1 - v[a]));
+        return Label(depth == 0 ? 1 : 2 + (v.x + 2 * v.y + 3 * v.z) % 2);
+    };
+    Scene scene = test::boxScene(kResolution, kVoxel_mm, labelOf,
+                                 test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})},
+                                                {2, material({20, 8, 10}, {0.5f, 0.97f, 0.9f}, {0.4f, 0.4f, 0.4f})},
+                                                {3, material({30, 30, 30}, {0.9f, 0.6f, 0.3f})}}),
+                                 1.5f);
+    const test::Estimate reference = test::volpathFaceMiddle(scene, 256);
+    BeamOptions o;
+    o.radius_voxels = 0.5f;
+    for (const char* estimator : kEstimators)
+        test::expectFaceMiddlesAgree(renderIterations(scene, estimator, 16, 9, o).faceMiddle, reference, estimator);
+}
+
+TEST(PhotonBeams, SameBitsWhateverTheThreads) {
+    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i& v) { return Label(1 + (v.x + v.y) % 2); },
+                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.7f, 0.5f})},
+                                                {2, material({20, 5, 10}, {0.6f, 0.9f, 0.8f})}}),
+                                 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    for (const char* estimator : kEstimators) {
+        RenderSettings s;
+        s.integrator = estimator;
+        s.spp = 3;
+        std::vector<float> values[2];
+        for (int run = 0; run < 2; ++run) {
+            tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
+            const RenderResult r = render(scene, sensor, s);
+            for (size_t p = 0; p < sensor.pixelCount(); ++p)
+                for (int c = 0; c < 3; ++c) values[run].push_back(r.film.mean(p, c));
+        }
+        EXPECT_EQ(values[0], values[1]) << estimator;
+    }
+}
+
+}  // namespace
+}  // namespace pl
