@@ -6,13 +6,12 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "integrators/photon_parts.h"
 #include "integrators/progressive_radius.h"
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
 #include "media/dda.h"
-#include "runtime/interrupt.h"
 #include "runtime/memory_budget.h"
-#include "runtime/scheduler.h"
 
 namespace pl {
 
@@ -36,9 +35,9 @@ constexpr float kCutOffOpticalDepth = 4.6051702f;  // ln 100
 // Straight segments a query follows inside (each internal reflection
 // starts one) before it stops; the weight left by then is F^16 at most.
 constexpr int kMostSegments = 16;
-// Bytes a photon takes while its iteration's map is built (the photon and
-// its sort key and index).
-constexpr uint64_t kPhotonBytes = sizeof(PhotonMap::Photon) + 16;
+// Bytes a photon takes while its iteration's map is built (the photon in
+// its part and in the map, its grid entry and its place in the grid).
+constexpr uint64_t kPhotonBytes = 2 * sizeof(PhotonMap::Photon) + 16 + 4;
 }  // namespace
 
 namespace {
@@ -70,10 +69,14 @@ Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants
       entries_(*scene.geometry) {
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
+    // Every photon that enters is stored once at least; how many more times
+    // depends on the resins (hundreds in white): the tracing stops with an
+    // error when the photons outgrow the memory.
     const uint64_t photons = photonsPerIteration_;
     if (auto why = memoryShortfall(photons * kPhotonBytes, std::to_string(photons) + " photons an iteration",
                                    memoryInUseBytes()))
         throw std::runtime_error("bre: " + *why);
+    mostPhotons_ = itemsTheMemoryHolds(kPhotonBytes);
 }
 
 IntegratorCapabilities Bre::capabilities(const RenderSettings&) {
@@ -99,33 +102,20 @@ PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) cons
     // Each photon carries the power the environment sends into the object
     // (Le pi A) over the count; cosine-weighted directions cancel the pi.
     const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
-    std::vector<std::vector<PhotonMap::Photon>> parts(kParts);
-    std::vector<PathStats> partStats(kParts);
-    if (Le > 0.0f)
-        parallelForTiles(kParts, 1, [&](size_t begin, size_t end) {
-            LabelMedium::Tracker medium(*scene_.medium, majorants_);
-            for (size_t part = begin; part < end; ++part)
-                for (uint64_t i = count * part / kParts; i < count * (part + 1) / kParts; ++i) {
-                    if (interruptRequested()) return;
-                    Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
-                    const SurfaceHit entry = entries_.sample(rng);
-                    SingleChannelPath path{&lut, channel, Le};
-                    std::vector<PhotonMap::Photon>& stored = parts[part];
-                    auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
-                        stored.push_back({y, dIn, float(power * double(p.beta)), label});
-                    };
-                    walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats[part],
-                                   [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
-                }
-        });
     std::vector<PhotonMap::Photon> photons;
-    size_t total = 0;
-    for (const auto& part : parts) total += part.size();
-    photons.reserve(total);
-    for (size_t part = 0; part < kParts; ++part) {
-        photons.insert(photons.end(), parts[part].begin(), parts[part].end());
-        stats += partStats[part];
-    }
+    if (Le > 0.0f)
+        photons = tracePhotonsInParts<PhotonMap::Photon>(
+            scene_, majorants_, count, mostPhotons_, "lower bre_photons_per_pixel", stats,
+            [&](uint64_t i, std::vector<PhotonMap::Photon>& stored, LabelMedium::Tracker& medium, PathStats& partStats) {
+                Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
+                const SurfaceHit entry = entries_.sample(rng);
+                SingleChannelPath path{&lut, channel, Le};
+                auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
+                    stored.push_back({y, dIn, float(power * double(p.beta)), label});
+                };
+                walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats,
+                               [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
+            });
     return PhotonMap(std::move(photons), radiusAt_mm(sample + 1));
 }
 

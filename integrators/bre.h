@@ -94,10 +94,6 @@ public:
     // The radiance arriving along -ray.d at ray.o, gathered from the map.
     float gather(const PhotonMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium) const;
 
-    // Photons are traced in this many parts, each by one thread, and put
-    // together in part order: the same bits whatever the threads.
-    static constexpr size_t kParts = 64;
-
 private:
     // The photons gathered along one straight segment inside, from its
     // origin up to tEnd_mm, and the transmittance over the whole segment
@@ -116,6 +112,7 @@ private:
     uint64_t photonSeed_;
     MeshPointSampler entries_;  // where particles enter
     float smallestVoxel_mm_;
+    uint64_t mostPhotons_;  // the memory there is for one iteration's photons
 };
 
 }  // namespace pl

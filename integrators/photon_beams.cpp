@@ -1,15 +1,17 @@
 #include "integrators/photon_beams.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
+#include "integrators/photon_parts.h"
 #include "integrators/progressive_radius.h"
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
-#include "runtime/interrupt.h"
 #include "runtime/memory_budget.h"
-#include "runtime/scheduler.h"
 
 namespace pl {
 
@@ -35,13 +37,27 @@ constexpr uint64_t kBeamBytes = 2 * sizeof(PhotonBeam) + 3 * (16 + 4);
 
 PhotonBeamMap::PhotonBeamMap(std::vector<PhotonBeam> beams, float radius_mm, const Point3f& origin_mm)
     : beams_(std::move(beams)), radius_mm_(radius_mm), grid_(radius_mm, origin_mm) {
-    std::vector<std::pair<uint64_t, uint32_t>> entries;
-    entries.reserve(beams_.size() * 2);
-    for (size_t i = 0; i < beams_.size(); ++i) {
-        const PhotonBeam& b = beams_[i];
-        grid_.forEachCellCrossed(Ray{b.o, b.d}, b.length_mm,
-                                 [&](uint64_t key) { entries.push_back({key, uint32_t(i)}); });
-    }
+    // In parallel and in two passes (how many cells each beam crosses, then
+    // the entries where the counts put them): the same entries whatever the threads.
+    std::vector<uint64_t> firstEntry(beams_.size() + 1, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            const PhotonBeam& b = beams_[i];
+            uint64_t cells = 0;
+            grid_.forEachCellCrossed(Ray{b.o, b.d}, b.length_mm, [&](uint64_t) { ++cells; });
+            firstEntry[i + 1] = cells;
+        }
+    });
+    for (size_t i = 0; i < beams_.size(); ++i) firstEntry[i + 1] += firstEntry[i];
+    std::vector<std::pair<uint64_t, uint32_t>> entries(firstEntry.back());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+            const PhotonBeam& b = beams_[i];
+            uint64_t at = firstEntry[i];
+            grid_.forEachCellCrossed(Ray{b.o, b.d}, b.length_mm,
+                                     [&](uint64_t key) { entries[at++] = {key, uint32_t(i)}; });
+        }
+    });
     grid_.fill(std::move(entries));
 }
 
@@ -68,11 +84,11 @@ PhotonBeamEstimator::PhotonBeamEstimator(const Scene& scene, const Sensor& senso
     // Every photon that enters leaves one beam at least; how many more
     // depends on the resins (hundreds in white): the tracing stops with
     // this error when the beams outgrow the memory.
-    const uint64_t inUse = memoryInUseBytes(), budget = memoryBudgetBytes();
     if (auto why = memoryShortfall(photonsPerIteration_ * kBeamBytes,
-                                   std::to_string(photonsPerIteration_) + " photon beams an iteration", inUse))
+                                   std::to_string(photonsPerIteration_) + " photon beams an iteration",
+                                   memoryInUseBytes()))
         throw std::runtime_error("photon beams: " + *why);
-    mostBeams_ = (budget - inUse) / kBeamBytes;
+    mostBeams_ = itemsTheMemoryHolds(kBeamBytes);
 }
 
 IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) {
@@ -94,43 +110,20 @@ PhotonBeamMap PhotonBeamEstimator::traceBeams(int channel, uint32_t sample, Path
     // Each photon carries the power the environment sends into the object
     // (Le pi A) over the count; cosine-weighted directions cancel the pi.
     const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
-    const uint64_t mostPerPart = mostBeams_ / kParts;
-    std::vector<std::vector<PhotonBeam>> parts(kParts);
-    std::vector<PathStats> partStats(kParts);
-    if (Le > 0.0f)
-        parallelForTiles(kParts, 1, [&](size_t begin, size_t end) {
-            LabelMedium::Tracker medium(*scene_.medium, majorants_);
-            for (size_t part = begin; part < end; ++part) {
-                std::vector<PhotonBeam>& stored = parts[part];
-                for (uint64_t i = count * part / kParts; i < count * (part + 1) / kParts; ++i) {
-                    if (interruptRequested()) return;
-                    Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
-                    const SurfaceHit entry = entries_.sample(rng);
-                    SingleChannelPath path{&lut, channel, Le};
-                    auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& p) {
-                        if (tEnd_mm > 0.0f) stored.push_back({flight.o, flight.d, tEnd_mm, float(power * p.beta)});
-                    };
-                    walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats[part], onFlight,
-                                   [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
-                    if (stored.size() > mostPerPart)
-                        throw std::runtime_error(
-                            "photon beams: one iteration's beams outgrow the memory (" +
-                            std::to_string(stored.size()) + " from " +
-                            std::to_string(i + 1 - count * part / kParts) + " of " + std::to_string(count) +
-                            " photons, room for " + std::to_string(mostBeams_) +
-                            "): lower beams_photons_per_pixel");
-                }
-            }
-        });
     std::vector<PhotonBeam> beams;
-    size_t total = 0;
-    for (const auto& part : parts) total += part.size();
-    beams.reserve(total);
-    for (size_t part = 0; part < kParts; ++part) {
-        beams.insert(beams.end(), parts[part].begin(), parts[part].end());
-        std::vector<PhotonBeam>().swap(parts[part]);
-        stats += partStats[part];
-    }
+    if (Le > 0.0f)
+        beams = tracePhotonsInParts<PhotonBeam>(
+            scene_, majorants_, count, mostBeams_, "lower beams_photons_per_pixel", stats,
+            [&](uint64_t i, std::vector<PhotonBeam>& stored, LabelMedium::Tracker& medium, PathStats& partStats) {
+                Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
+                const SurfaceHit entry = entries_.sample(rng);
+                SingleChannelPath path{&lut, channel, Le};
+                auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& p) {
+                    if (tEnd_mm > 0.0f) stored.push_back({flight.o, flight.d, tEnd_mm, float(power * p.beta)});
+                };
+                walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats, onFlight,
+                               [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
+            });
     // Cells from the object's lowest corner (no beam lies below it).
     const Point3f origin = scene_.geometry->bounds().lo - Vec3f{1, 1, 1} * radiusAt_mm(sample + 1);
     return PhotonBeamMap(std::move(beams), radiusAt_mm(sample + 1), origin);

@@ -116,10 +116,6 @@ public:
     virtual float Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const = 0;
 
-    // Beams are traced in this many parts, each by one thread, and put
-    // together in part order: the same bits whatever the threads.
-    static constexpr size_t kParts = 64;
-
 protected:
     // A camera path's walk: volpath's, ending at the first real collision.
     static VolPathOptions cameraWalk() {

@@ -39,6 +39,11 @@ uint64_t memoryInUseBytes() {
     return uint64_t(resident) * uint64_t(sysconf(_SC_PAGE_SIZE));
 }
 
+uint64_t itemsTheMemoryHolds(uint64_t bytesEach) {
+    const uint64_t budget = memoryBudgetBytes(), inUse = memoryInUseBytes();
+    return budget > inUse ? (budget - inUse) / bytesEach : 0;
+}
+
 std::optional<std::string> memoryShortfall(uint64_t bytes, const std::string& what, uint64_t inUse,
                                            const std::string& remedy) {
     uint64_t budget = memoryBudgetBytes();

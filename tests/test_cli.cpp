@@ -458,6 +458,30 @@ TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
     expectCleanFailure(s, r, "cube10.gltf", "too large");
 }
 
+// The photon estimators store a point or a beam per collision or flight,
+// hundreds per photon in white resin: an iteration that outgrows the memory
+// stops with an error that says so (after the summary line), and writes nothing.
+TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
+    for (const char* estimator : {"bre", "pb2d", "bb1d"}) {
+        TestScene s(std::string("photons_") + estimator);
+        // About 250 MiB in use once the scene is loaded: room for ~1e6 photons'
+        // items, which white's red channel outgrows within a few per cent of its photons.
+        ::setenv("PRINTLIGHT_MEMORY_LIMIT_MB", "350", 1);
+        const CliRun r = printlight("render " + (test::sourceDir() / "data/scenes/cube10_white_preview.json").string() +
+                                        " --spp 1 --integrator " + estimator + " -o " + s.out().string(),
+                                    s.dir);
+        ::unsetenv("PRINTLIGHT_MEMORY_LIMIT_MB");
+        EXPECT_EQ(r.exitCode, 1) << r.err;
+        EXPECT_NE(r.err.find("printlight: error: one iteration's photons outgrow the memory ("), std::string::npos)
+            << r.err;
+        EXPECT_NE(r.err.find(estimator[0] == 'b' && estimator[1] == 'r' ? "lower bre_photons_per_pixel"
+                                                                        : "lower beams_photons_per_pixel"),
+                  std::string::npos)
+            << r.err;
+        EXPECT_FALSE(s.anyOutput()) << "output written despite the error";
+    }
+}
+
 TEST(Cli, UnknownSceneKeysAreTypos) {
     TestScene s("typo");
     s.scene["render"]["sps"] = 4;
