@@ -124,9 +124,10 @@ std::map<std::string, RenderSettings> configurations(const RenderSettings& base)
     return c;
 }
 
-// A named configuration with printpt's (or lighttrace's) options
-// overridden after slashes, e.g. "printpt/k=1/rr_threshold=0.2/nee=1",
-// "lighttrace/particles_per_pixel=2". Keys are the scene file's render
+// A named configuration with printpt's, lighttrace's or a photon
+// estimator's options overridden after slashes, e.g.
+// "printpt/k=1/rr_threshold=0.2/nee=1", "lighttrace/particles_per_pixel=2",
+// "pb2d/beams_radius_voxels=4". Keys are the scene file's render
 // keys; nullopt for an unknown name.
 std::optional<RenderSettings> parseConfiguration(const std::string& spec,
                                                  const std::map<std::string, RenderSettings>& named) {
@@ -135,9 +136,10 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
     RenderSettings s = named.at(parts[0]);
     for (size_t i = 1; i < parts.size(); ++i) {
         size_t eq = parts[i].find('=');
-        if (eq == std::string::npos || (s.integrator != "printpt" && s.integrator != "lighttrace"))
+        const bool photons = s.integrator == "bre" || s.integrator == "pb2d" || s.integrator == "bb1d";
+        if (eq == std::string::npos || (s.integrator != "printpt" && s.integrator != "lighttrace" && !photons))
             throw UsageError("configuration '" + spec +
-                             "': overrides are key=value on a printpt or lighttrace configuration");
+                             "': overrides are key=value on a printpt, lighttrace or photon configuration");
         std::string key = parts[i].substr(0, eq);
         double v = 0;
         try {
@@ -150,7 +152,11 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
         std::string problem;
         if (const auto* p = s.integrator == "lighttrace" ? findOption(lightTraceParameters(), key) : nullptr)
             problem = setOption(*p, s.lighttrace, v);
-        else if (const auto* q = findOption(printPtParameters(), key))
+        else if (const auto* b = s.integrator == "bre" ? findOption(breParameters(), key) : nullptr)
+            problem = setOption(*b, s.bre, v);
+        else if (const auto* m = photons ? findOption(beamParameters(), key) : nullptr)
+            problem = setOption(*m, s.beams, v);
+        else if (const auto* q = photons ? nullptr : findOption(printPtParameters(), key))
             problem = setOption(*q, s.printpt, v);
         else
             throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
@@ -406,7 +412,7 @@ ChosenConfigurations chooseConfigurations(const Arguments& args, const RenderSet
         if (!s) {
             std::string known;
             for (const auto& [k, v] : all) known += " " + k;
-            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt ones take /key=value overrides)");
+            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt, lighttrace and photon ones take /key=value overrides)");
         }
         chosen.settings[n] = *s;
         chosen.needs |= sceneNeedsOf(*s);
