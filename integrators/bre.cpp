@@ -70,7 +70,7 @@ Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
     // Every photon that enters is stored once at least; how many more times
-    // depends on the resins (hundreds in white): the tracing stops with an
+    // depends on the resins (about 50 in white): the tracing stops with an
     // error when the photons outgrow the memory.
     const uint64_t photons = photonsPerIteration_;
     if (auto why = memoryShortfall(photons * kPhotonBytes, std::to_string(photons) + " photons an iteration",

@@ -82,8 +82,8 @@ PhotonBeamEstimator::PhotonBeamEstimator(const Scene& scene, const Sensor& senso
     const Vec3f v = scene.medium->frame().voxelSize_mm;
     smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
     // Every photon that enters leaves one beam at least; how many more
-    // depends on the resins (hundreds in white): the tracing stops with
-    // this error when the beams outgrow the memory.
+    // depends on the resins (about 50 in white): the tracing stops with an
+    // error when the beams outgrow the memory (photon_parts.h).
     if (auto why = memoryShortfall(photonsPerIteration_ * kBeamBytes,
                                    std::to_string(photonsPerIteration_) + " photon beams an iteration",
                                    memoryInUseBytes()))

@@ -2,7 +2,7 @@
 // points, pb2d's and bb1d's beams), traced in kPhotonParts parts, each by
 // one thread, and put together in part order: the same bits whatever the
 // threads. What a photon leaves grows with its walk (a point per
-// collision, a beam per flight: hundreds in white resin), so a part stops
+// collision, a beam per flight: about 50 in white resin), so a part stops
 // the iteration with an error once the items stored outgrow the memory
 // there was when the estimator was made.
 #pragma once

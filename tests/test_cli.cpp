@@ -459,7 +459,7 @@ TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
 }
 
 // The photon estimators store a point or a beam per collision or flight,
-// hundreds per photon in white resin: an iteration that outgrows the memory
+// about 50 per photon in white resin: an iteration that outgrows the memory
 // stops with an error that says so (after the summary line), and writes nothing.
 TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
     for (const char* estimator : {"bre", "pb2d", "bb1d"}) {
