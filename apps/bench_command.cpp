@@ -136,7 +136,8 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
     RenderSettings s = named.at(parts[0]);
     for (size_t i = 1; i < parts.size(); ++i) {
         size_t eq = parts[i].find('=');
-        const bool photons = s.integrator == "bre" || s.integrator == "pb2d" || s.integrator == "bb1d";
+        const bool beams = s.integrator == "pb2d" || s.integrator == "bb1d";
+        const bool photons = s.integrator == "bre" || beams;
         if (eq == std::string::npos || (s.integrator != "printpt" && s.integrator != "lighttrace" && !photons))
             throw UsageError("configuration '" + spec +
                              "': overrides are key=value on a printpt, lighttrace or photon configuration");
@@ -154,7 +155,7 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec,
             problem = setOption(*p, s.lighttrace, v);
         else if (const auto* b = s.integrator == "bre" ? findOption(breParameters(), key) : nullptr)
             problem = setOption(*b, s.bre, v);
-        else if (const auto* m = photons ? findOption(beamParameters(), key) : nullptr)
+        else if (const auto* m = beams ? findOption(beamParameters(), key) : nullptr)
             problem = setOption(*m, s.beams, v);
         else if (const auto* q = photons ? nullptr : findOption(printPtParameters(), key))
             problem = setOption(*q, s.printpt, v);

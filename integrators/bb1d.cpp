@@ -14,8 +14,8 @@ std::unique_ptr<Integrator> Bb1d::create(const Scene& scene, const Sensor& senso
 }
 
 namespace {
-// Beams closer to parallel than this (sin^2 of the angle) are left out: a
-// set of measure zero whose 1 / sin would only add round-off.
+// Beams closer to parallel than this (sin^2 of the angle, a cone of 1e-3
+// rad) are left out: a small bias, against 1 / sin's round-off.
 constexpr float kLeastSin2 = 1e-6f;
 }  // namespace
 
@@ -44,10 +44,10 @@ float Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMediu
             const float d2 = dot(between, between);
             if (!(d2 < r2)) return;
             const Label l = medium.labelAt(scene_.medium->voxelAt(flight.at(t)));
-            const double sigmaS = double(lut.sigmaT_perMm[l]) * lut.albedo[l];
+            const double sigmaS_perMm = double(lut.sigmaT_perMm[l]) * lut.albedo[l];
             const double u = 1.0 - double(d2) / r2;
             const double k1 = kernelScale * u * u * std::sqrt(u);
-            sum.add(i, sigmaS * k1 / std::sqrt(double(sin2)) * hgPhase(dot(b.d, -flight.d), lut.g[l]) *
+            sum.add(i, sigmaS_perMm * k1 / std::sqrt(double(sin2)) * hgPhase(dot(b.d, -flight.d), lut.g[l]) *
                            double(b.power));
         });
         gathered += double(path.beta) * sum.total();

@@ -38,9 +38,7 @@ constexpr int kMostSegments = 16;
 // Bytes a photon takes while its iteration's map is built (the photon in
 // its part and in the map, its grid entry and its place in the grid).
 constexpr uint64_t kPhotonBytes = 2 * sizeof(PhotonMap::Photon) + 16 + 4;
-}  // namespace
 
-namespace {
 Point3f lowestCorner(const std::vector<PhotonMap::Photon>& photons) {
     Point3f lo{1e30f, 1e30f, 1e30f};
     for (const PhotonMap::Photon& ph : photons)

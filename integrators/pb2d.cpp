@@ -26,7 +26,8 @@ float Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMediu
             const Vec3f v = x - b.o;
             const float s = dot(v, b.d);
             if (s < 0.0f || s > b.length_mm) return;
-            const float d2 = dot(v, v) - s * s;
+            const Vec3f across = v - b.d * s;  // not |v|^2 - s^2: that cancels on long beams (clear resin)
+            const float d2 = dot(across, across);
             if (!(d2 < r2)) return;
             const double w = 1.0 - double(d2) / r2;
             sum.add(i, kernelScale * w * w * hgPhase(dot(b.d, -dIn), g) * double(b.power));

@@ -9,7 +9,6 @@
 
 #include "integrators/photon_parts.h"
 #include "integrators/progressive_radius.h"
-#include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
 #include "runtime/memory_budget.h"
 
@@ -30,9 +29,11 @@ const std::vector<OptionParameter<BeamOptions>>& beamParameters() {
 
 namespace {
 // Bytes a beam takes while its iteration's map is built: the beam in its
-// part and in the map, and its cells' entries (a beam crosses about three
-// cells of the radius' side).
-constexpr uint64_t kBeamBytes = 2 * sizeof(PhotonBeam) + 3 * (16 + 4);
+// part and in the map, its first entry's index, and its cells' entries
+// (a beam crosses 2 to 7 cells of a voxel's side in the resins; the map
+// checks the entries it makes against the memory once it has counted them).
+constexpr uint64_t kEntryBytes = 16 + 4;  // sorted (cell, beam) pair, and the beam's place in its cell
+constexpr uint64_t kBeamBytes = 2 * sizeof(PhotonBeam) + 8 + 3 * kEntryBytes;
 }  // namespace
 
 PhotonBeamMap::PhotonBeamMap(std::vector<PhotonBeam> beams, float radius_mm, const Point3f& origin_mm)
@@ -49,6 +50,12 @@ PhotonBeamMap::PhotonBeamMap(std::vector<PhotonBeam> beams, float radius_mm, con
         }
     });
     for (size_t i = 0; i < beams_.size(); ++i) firstEntry[i + 1] += firstEntry[i];
+    // A beam crosses length / r cells: more as the radius shrinks, many in
+    // clear resin; refused before the entries are made if they do not fit.
+    if (auto why = memoryShortfall(firstEntry.back() * kEntryBytes,
+                                   std::to_string(firstEntry.back()) + " cells crossed by one iteration's beams",
+                                   memoryInUseBytes(), "lower beams_photons_per_pixel or raise beams_radius_voxels"))
+        throw std::runtime_error("photon beams: " + *why);
     std::vector<std::pair<uint64_t, uint32_t>> entries(firstEntry.back());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, beams_.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -124,7 +131,7 @@ PhotonBeamMap PhotonBeamEstimator::traceBeams(int channel, uint32_t sample, Path
                 walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats, onFlight,
                                [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
             });
-    // Cells from the object's lowest corner (no beam lies below it).
+    // Cells from a radius below the object's lowest corner (no beam lies below it).
     const Point3f origin = scene_.geometry->bounds().lo - Vec3f{1, 1, 1} * radiusAt_mm(sample + 1);
     return PhotonBeamMap(std::move(beams), radiusAt_mm(sample + 1), origin);
 }

@@ -13,10 +13,10 @@
 #include <vector>
 
 #include "core/path_stats.h"
-#include "core/rng.h"
 #include "media/label_medium.h"
 #include "runtime/interrupt.h"
 #include "runtime/scheduler.h"
+#include "scene/scene.h"
 
 namespace pl {
 

@@ -474,8 +474,8 @@ TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
         EXPECT_EQ(r.exitCode, 1) << r.err;
         EXPECT_NE(r.err.find("printlight: error: one iteration's photons outgrow the memory ("), std::string::npos)
             << r.err;
-        EXPECT_NE(r.err.find(estimator[0] == 'b' && estimator[1] == 'r' ? "lower bre_photons_per_pixel"
-                                                                        : "lower beams_photons_per_pixel"),
+        EXPECT_NE(r.err.find(std::string(estimator) == "bre" ? "lower bre_photons_per_pixel"
+                                                             : "lower beams_photons_per_pixel"),
                   std::string::npos)
             << r.err;
         EXPECT_FALSE(s.anyOutput()) << "output written despite the error";
