@@ -15,8 +15,61 @@
 
 #include "render/registry.h"
 #include "render_estimate.h"
+#include "test_util.h"
 
 namespace pl::test {
+
+// The boxes the photon estimators' tests render: 14 x 12 x 10 voxels,
+// anisotropic on purpose.
+inline const Vec3i kPhotonBoxResolution{14, 12, 10};
+inline const Vec3f kPhotonBoxVoxel_mm{0.05f, 0.04f, 0.06f};
+
+// One resin throughout.
+inline Scene homogeneousPhotonBox(const Material& resin, float ior) {
+    return boxScene(kPhotonBoxResolution, kPhotonBoxVoxel_mm, [](const Vec3i&) { return Label(1); },
+                    tableOf({{1, resin}}), ior);
+}
+// No absorption: the white furnace.
+inline Scene whiteFurnacePhotonBox(float ior) {
+    return homogeneousPhotonBox(material({8, 12, 20}, {1, 1, 1}, {0, 0.3f, 0.6f}), ior);
+}
+// Absorbing, anisotropic and coloured.
+inline Scene colouredPhotonBox(float ior) {
+    return homogeneousPhotonBox(material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f}), ior);
+}
+// A skin of one resin over a halftone of two denser ones at the voxel
+// scale, IOR 1.5: light reaching a query comes through voxels of every label.
+inline Scene halftonedPhotonBox() {
+    auto labelOf = [](const Vec3i& v) {
+        int depth = 1 << 30;
+        for (int a = 0; a < 3; ++a) depth = std::min(depth, std::min(v[a], kPhotonBoxResolution[a] - 1 - v[a]));
+        return Label(depth == 0 ? 1 : 2 + (v.x + 2 * v.y + 3 * v.z) % 2);
+    };
+    return boxScene(kPhotonBoxResolution, kPhotonBoxVoxel_mm, labelOf,
+                    tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})},
+                             {2, material({20, 8, 10}, {0.5f, 0.97f, 0.9f}, {0.4f, 0.4f, 0.4f})},
+                             {3, material({30, 30, 30}, {0.9f, 0.6f, 0.3f})}}),
+                    1.5f);
+}
+// Two resins in stripes, IOR 1.5 (the same-bits checks).
+inline Scene stripedPhotonBox() {
+    return boxScene(kPhotonBoxResolution, kPhotonBoxVoxel_mm,
+                    [](const Vec3i& v) { return Label(1 + (v.x + v.y) % 2); },
+                    tableOf({{1, material({10, 10, 10}, {0.9f, 0.7f, 0.5f})},
+                             {2, material({20, 5, 10}, {0.6f, 0.9f, 0.8f})}}),
+                    1.5f);
+}
+
+// Every surface voxel's value in every channel (the same-bits checks).
+inline std::vector<float> surfaceValues(const Scene& scene, const RenderSettings& settings) {
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    const RenderResult r = render(scene, sensor, settings);
+    std::vector<float> values;
+    for (size_t p = 0; p < sensor.pixelCount(); ++p)
+        for (int c = 0; c < 3; ++c) values.push_back(r.film.mean(p, c));
+    return values;
+}
 
 // One coordinate on the box's side, the others at least three voxels from its edges.
 inline bool inFaceMiddle(const Vec3i& v, const Vec3i& resolution) {

@@ -12,12 +12,8 @@
 namespace pl {
 namespace {
 
-using test::material;
-
-const Vec3i kResolution{14, 12, 10};
-const Vec3f kVoxel_mm{0.05f, 0.04f, 0.06f};  // anisotropic on purpose
-
 using test::IterationMeans;
+using test::material;
 
 IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_t seed, BreOptions options = {}) {
     RenderSettings s;
@@ -28,8 +24,7 @@ IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_
 }
 
 TEST(Bre, RadiusShrinksAsScheduled) {
-    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
-                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.9f, 0.9f})}}), 1.5f);
+    Scene scene = test::homogeneousPhotonBox(material({10, 10, 10}, {0.9f, 0.9f, 0.9f}), 1.5f);
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
     BreOptions o;
@@ -51,8 +46,7 @@ TEST(Bre, RadiusShrinksAsScheduled) {
 // iterations' error.
 TEST(Bre, WhiteFurnaceIsTheEnvironment) {
     for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
-                                     test::tableOf({{1, material({8, 12, 20}, {1, 1, 1}, {0, 0.3f, 0.6f})}}), ior);
+        Scene scene = test::whiteFurnacePhotonBox(ior);
         const IterationMeans r = renderIterations(scene, 12, 3);
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
@@ -62,9 +56,7 @@ TEST(Bre, WhiteFurnaceIsTheEnvironment) {
 
 TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) {
     for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i&) { return Label(1); },
-                                     test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})}}),
-                                     ior);
+        Scene scene = test::colouredPhotonBox(ior);
         const IterationMeans bre = renderIterations(scene, 12, 7);
         test::expectFaceMiddlesAgree(bre.faceMiddle, test::volpathFaceMiddle(scene, 256),
                                      "IOR " + std::to_string(ior));
@@ -74,19 +66,11 @@ TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) {
 // A skin of one resin over a halftone of two denser ones at the voxel
 // scale: the light reaching a query comes through voxels of each label
 // (the segment vector's transmittance: the skin's extinction taken for
-// the whole segment puts red 45 % off), and the photons lie in all three. A first radius of half a voxel keeps the kernel's blur across
-// columns below the iterations' error on the face-middle mean.
+// the whole segment puts red 45 % off), and the photons lie in all three.
+// A first radius of half a voxel keeps the kernel's blur across columns
+// below the iterations' error on the face-middle mean.
 TEST(Bre, AgreesWithVolpathOnAHalftonedBox) {
-    auto labelOf = [](const Vec3i& v) {
-        int depth = 1 << 30;
-        for (int a = 0; a < 3; ++a) depth = std::min(depth, std::min(v[a], kResolution[a] - 1 - v[a]));
-        return Label(depth == 0 ? 1 : 2 + (v.x + 2 * v.y + 3 * v.z) % 2);
-    };
-    Scene scene = test::boxScene(kResolution, kVoxel_mm, labelOf,
-                                 test::tableOf({{1, material({6, 12, 24}, {0.95f, 0.8f, 0.5f}, {0.2f, 0, 0.5f})},
-                                                {2, material({20, 8, 10}, {0.5f, 0.97f, 0.9f}, {0.4f, 0.4f, 0.4f})},
-                                                {3, material({30, 30, 30}, {0.9f, 0.6f, 0.3f})}}),
-                                 1.5f);
+    Scene scene = test::halftonedPhotonBox();
     BreOptions o;
     o.radius_voxels = 0.5f;
     const IterationMeans bre = renderIterations(scene, 16, 9, o);
@@ -94,21 +78,14 @@ TEST(Bre, AgreesWithVolpathOnAHalftonedBox) {
 }
 
 TEST(Bre, SameBitsWhateverTheThreads) {
-    Scene scene = test::boxScene(kResolution, kVoxel_mm, [](const Vec3i& v) { return Label(1 + (v.x + v.y) % 2); },
-                                 test::tableOf({{1, material({10, 10, 10}, {0.9f, 0.7f, 0.5f})},
-                                                {2, material({20, 5, 10}, {0.6f, 0.9f, 0.8f})}}),
-                                 1.5f);
-    const LabelGrid& g = scene.medium->grid();
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
+    const Scene scene = test::stripedPhotonBox();
     RenderSettings s;
     s.integrator = "bre";
     s.spp = 3;
     std::vector<float> values[2];
     for (int run = 0; run < 2; ++run) {
         tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
-        const RenderResult r = render(scene, sensor, s);
-        for (size_t p = 0; p < sensor.pixelCount(); ++p)
-            for (int c = 0; c < 3; ++c) values[run].push_back(r.film.mean(p, c));
+        values[run] = test::surfaceValues(scene, s);
     }
     EXPECT_EQ(values[0], values[1]);
 }
