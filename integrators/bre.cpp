@@ -9,9 +9,7 @@
 #include "integrators/photon_parts.h"
 #include "integrators/progressive_radius.h"
 #include "integrators/render_settings.h"
-#include "integrators/volume_walk.h"
 #include "media/dda.h"
-#include "runtime/memory_budget.h"
 
 namespace pl {
 
@@ -59,23 +57,9 @@ PhotonMap::PhotonMap(std::vector<Photon> photons, float radius_mm)
 
 Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed)
     : scene_(scene),
-      photonsPerIteration_(std::max<uint64_t>(
-          1, uint64_t(std::llround(double(options.photonsPerPixel) * double(sensor.pixelCount()))))),
-      options_(options),
-      majorants_(majorants),
-      photonSeed_(mix64(seed ^ 0x62726550ULL)),
-      entries_(*scene.geometry) {
-    const Vec3f v = scene.medium->frame().voxelSize_mm;
-    smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
-    // Every photon that enters is stored once at least; how many more times
-    // depends on the resins (about 50 in white): the tracing stops with an
-    // error when the photons outgrow the memory.
-    const uint64_t photons = photonsPerIteration_;
-    if (auto why = memoryShortfall(photons * kPhotonBytes, std::to_string(photons) + " photons an iteration",
-                                   memoryInUseBytes()))
-        throw std::runtime_error("bre: " + *why);
-    mostPhotons_ = itemsTheMemoryHolds(kPhotonBytes);
-}
+      photons_(scene, majorants, options.photonsPerPixel, sensor.pixelCount(), seed, 0x62726550ULL, kPhotonBytes,
+               "bre", "photons", "lower bre_photons_per_pixel"),
+      radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, 2) {}
 
 IntegratorCapabilities Bre::capabilities(const RenderSettings&) {
     IntegratorCapabilities c;
@@ -89,31 +73,15 @@ std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor
     return std::make_unique<Bre>(scene, sensor, s.bre, s.majorants, s.seed);
 }
 
-float Bre::radiusAt_mm(uint32_t iteration) const {
-    return progressiveRadius_mm(options_.radius_voxels * smallestVoxel_mm_, options_.alpha, 2, iteration);
-}
+float Bre::radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
 
 PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {
-    const ChannelLut& lut = scene_.medium->lut(channel);
-    const float Le = scene_.environment[channel];
-    const uint64_t count = photonsPerIteration_;
-    // Each photon carries the power the environment sends into the object
-    // (Le pi A) over the count; cosine-weighted directions cancel the pi.
-    const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
-    std::vector<PhotonMap::Photon> photons;
-    if (Le > 0.0f)
-        photons = tracePhotonsInParts<PhotonMap::Photon>(
-            scene_, majorants_, count, mostPhotons_, "lower bre_photons_per_pixel", stats,
-            [&](uint64_t i, std::vector<PhotonMap::Photon>& stored, LabelMedium::Tracker& medium, PathStats& partStats) {
-                Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
-                const SurfaceHit entry = entries_.sample(rng);
-                SingleChannelPath path{&lut, channel, Le};
-                auto onCollision = [&](const Point3f& y, const Vec3f& dIn, Label label, const SingleChannelPath& p) {
-                    stored.push_back({y, dIn, float(power * double(p.beta)), label});
-                };
-                walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats,
-                               [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
-            });
+    const double power = photons_.powerEach(channel);
+    // Stored at every real collision with the power after the albedo.
+    std::vector<PhotonMap::Photon> photons = photons_.trace<PhotonMap::Photon>(
+        channel, sample, stats, [](std::vector<PhotonMap::Photon>&, const Ray&, float, const SingleChannelPath&) {},
+        [&](std::vector<PhotonMap::Photon>& stored, const Point3f& y, const Vec3f& dIn, Label label,
+            const SingleChannelPath& p) { stored.push_back({y, dIn, float(power * double(p.beta)), label}); });
     return PhotonMap(std::move(photons), radiusAt_mm(sample + 1));
 }
 

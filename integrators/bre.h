@@ -26,10 +26,11 @@
 #include <memory>
 #include <vector>
 
-#include "core/mesh_point_sampler.h"
 #include "core/option_table.h"
 #include "integrators/cell_grid.h"
 #include "integrators/integrator.h"
+#include "integrators/photon_parts.h"
+#include "integrators/progressive_radius.h"
 #include "integrators/volpath.h"
 
 namespace pl {
@@ -106,13 +107,8 @@ private:
                                 LabelMedium::Tracker& medium) const;
 
     const Scene& scene_;
-    uint64_t photonsPerIteration_;  // traced (each stored at every real collision)
-    BreOptions options_;
-    Majorants majorants_;
-    uint64_t photonSeed_;
-    MeshPointSampler entries_;  // where particles enter
-    float smallestVoxel_mm_;
-    uint64_t mostPhotons_;  // the memory there is for one iteration's photons
+    PhotonSource photons_;     // each stored at every real collision
+    ProgressiveRadius radius_;  // over a disc
 };
 
 }  // namespace pl

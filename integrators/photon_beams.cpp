@@ -7,9 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "integrators/photon_parts.h"
-#include "integrators/progressive_radius.h"
-#include "integrators/volume_walk.h"
 #include "runtime/memory_budget.h"
 
 namespace pl {
@@ -79,24 +76,9 @@ double BeamSum::total() {
 PhotonBeamEstimator::PhotonBeamEstimator(const Scene& scene, const Sensor& sensor, BeamOptions options,
                                          int kernelDimensions, Majorants majorants, uint64_t seed)
     : scene_(scene),
-      majorants_(majorants),
-      photonsPerIteration_(std::max<uint64_t>(
-          1, uint64_t(std::llround(double(options.photonsPerPixel) * double(sensor.pixelCount()))))),
-      options_(options),
-      kernelDimensions_(kernelDimensions),
-      photonSeed_(mix64(seed ^ 0x6265616dULL)),
-      entries_(*scene.geometry) {
-    const Vec3f v = scene.medium->frame().voxelSize_mm;
-    smallestVoxel_mm_ = std::min(v.x, std::min(v.y, v.z));
-    // Every photon that enters leaves one beam at least; how many more
-    // depends on the resins (about 50 in white): the tracing stops with an
-    // error when the beams outgrow the memory (photon_parts.h).
-    if (auto why = memoryShortfall(photonsPerIteration_ * kBeamBytes,
-                                   std::to_string(photonsPerIteration_) + " photon beams an iteration",
-                                   memoryInUseBytes()))
-        throw std::runtime_error("photon beams: " + *why);
-    mostBeams_ = itemsTheMemoryHolds(kBeamBytes);
-}
+      photons_(scene, majorants, options.photonsPerPixel, sensor.pixelCount(), seed, 0x6265616dULL, kBeamBytes,
+               "photon beams", "photon beams", "lower beams_photons_per_pixel"),
+      radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, kernelDimensions) {}
 
 IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) {
     IntegratorCapabilities c;
@@ -105,35 +87,21 @@ IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) 
     return c;
 }
 
-float PhotonBeamEstimator::radiusAt_mm(uint32_t iteration) const {
-    return progressiveRadius_mm(options_.radius_voxels * smallestVoxel_mm_, options_.alpha, kernelDimensions_,
-                                iteration);
-}
+float PhotonBeamEstimator::radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
 
 PhotonBeamMap PhotonBeamEstimator::traceBeams(int channel, uint32_t sample, PathStats& stats) const {
-    const ChannelLut& lut = scene_.medium->lut(channel);
-    const float Le = scene_.environment[channel];
-    const uint64_t count = photonsPerIteration_;
-    // Each photon carries the power the environment sends into the object
-    // (Le pi A) over the count; cosine-weighted directions cancel the pi.
-    const double power = double(Le) * kPi * entries_.area_mm2() / double(count);
-    std::vector<PhotonBeam> beams;
-    if (Le > 0.0f)
-        beams = tracePhotonsInParts<PhotonBeam>(
-            scene_, majorants_, count, mostBeams_, "lower beams_photons_per_pixel", stats,
-            [&](uint64_t i, std::vector<PhotonBeam>& stored, LabelMedium::Tracker& medium, PathStats& partStats) {
-                Rng rng = Rng::forPath(photonSeed_, i, sample, uint64_t(channel));
-                const SurfaceHit entry = entries_.sample(rng);
-                SingleChannelPath path{&lut, channel, Le};
-                auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& p) {
-                    if (tEnd_mm > 0.0f) stored.push_back({flight.o, flight.d, tEnd_mm, float(power * p.beta)});
-                };
-                walkParticleIn(scene_, VolPathOptions{}, entry, path, medium, rng, partStats, onFlight,
-                               [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
-            });
+    const double power = photons_.powerEach(channel);
+    // A beam for every flight, with the power the photon carries along it.
+    std::vector<PhotonBeam> beams = photons_.trace<PhotonBeam>(
+        channel, sample, stats,
+        [&](std::vector<PhotonBeam>& stored, const Ray& flight, float tEnd_mm, const SingleChannelPath& p) {
+            if (tEnd_mm > 0.0f) stored.push_back({flight.o, flight.d, tEnd_mm, float(power * p.beta)});
+        },
+        [](std::vector<PhotonBeam>&, const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
     // Cells from a radius below the object's lowest corner (no beam lies below it).
-    const Point3f origin = scene_.geometry->bounds().lo - Vec3f{1, 1, 1} * radiusAt_mm(sample + 1);
-    return PhotonBeamMap(std::move(beams), radiusAt_mm(sample + 1), origin);
+    const float radius_mm = radiusAt_mm(sample + 1);
+    const Point3f origin = scene_.geometry->bounds().lo - Vec3f{1, 1, 1} * radius_mm;
+    return PhotonBeamMap(std::move(beams), radius_mm, origin);
 }
 
 void PhotonBeamEstimator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {

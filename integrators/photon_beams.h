@@ -24,10 +24,11 @@
 #include <memory>
 #include <vector>
 
-#include "core/mesh_point_sampler.h"
 #include "core/option_table.h"
 #include "integrators/cell_grid.h"
 #include "integrators/integrator.h"
+#include "integrators/photon_parts.h"
+#include "integrators/progressive_radius.h"
 #include "integrators/volpath.h"
 
 namespace pl {
@@ -128,16 +129,10 @@ protected:
     float insideToOutside() const { return 1.0f / (scene_.ior * scene_.ior); }
 
     const Scene& scene_;
-    Majorants majorants_;
 
 private:
-    uint64_t photonsPerIteration_;
-    BeamOptions options_;
-    int kernelDimensions_;
-    uint64_t photonSeed_;
-    MeshPointSampler entries_;  // where photons enter
-    float smallestVoxel_mm_;
-    uint64_t mostBeams_;        // the memory there is for one iteration's beams
+    PhotonSource photons_;      // a beam for every flight
+    ProgressiveRadius radius_;  // over the kernel's dimensions
 };
 
 }  // namespace pl
