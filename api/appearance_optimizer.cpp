@@ -15,6 +15,7 @@
 #include "media/label_grid.h"
 #include "media/voxel_int_grid.h"
 #include "prepare/halftone.h"
+#include "prepare/threshold_matrix.h"
 #include "render/registry.h"
 
 namespace pl {
@@ -62,14 +63,25 @@ VoxelIntGrid shellOwners(const LabelGrid& labels, const std::vector<Vec3i>& surf
     return owner;
 }
 
-// Halftones the shell: the mixture each voxel's owner asks for, vector
-// error diffusion slice by slice; returns the changes against `labels`.
+// Halftones the shell: the mixture each voxel's owner asks for; returns
+// the changes against `labels`. Error diffusion walks the frame slice by
+// slice; by thresholds each shell voxel is decided alone.
 std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const VoxelIntGrid& owner,
-                                             const std::vector<MaterialFractions>& mixtures) {
+                                             const std::vector<MaterialFractions>& mixtures, HalftoneMethod method) {
     const GridFrame& frame = labels.frame();
     const DenseIndex at{frame.resolution};
     const LabelReader label(labels);
     std::vector<LabelGrid::Change> changes;
+    if (method != HalftoneMethod::ErrorDiffusion) {
+        const ThresholdMatrix& thresholds = ThresholdMatrix::forVoxel(frame.voxelSize_mm);
+        owner.forEachSet([&](const Vec3i& v, int32_t o) {
+            const MaterialFractions& f = mixtures[size_t(o)];
+            const int m = method == HalftoneMethod::Thresholds ? materialAtThreshold(f, thresholds.at(v))
+                                                                : largestFraction(f);
+            if (kPrintMaterialLabel[m] != label.at(v)) changes.push_back({v, kPrintMaterialLabel[m]});
+        });
+        return changes;
+    }
     halftoneFrame(
         frame.resolution,
         [&](size_t i, MaterialFractions& f) {
@@ -364,7 +376,7 @@ private:
 // The labels of the best iteration: the labels as given (the loop changes
 // the shell alone), or the best mixtures' halftone.
 void restoreBestLabels(Predictor& predictor, const LabelGrid& given, const VoxelIntGrid& owner, int bestIteration,
-                       const std::vector<MaterialFractions>& bestMixture) {
+                       const std::vector<MaterialFractions>& bestMixture, HalftoneMethod method) {
     std::vector<LabelGrid::Change> changes;
     if (bestIteration == 0) {
         const LabelReader now(predictor.labels()), before(given);
@@ -372,7 +384,7 @@ void restoreBestLabels(Predictor& predictor, const LabelGrid& given, const Voxel
             if (now.at(v) != before.at(v)) changes.push_back({v, before.at(v)});
         });
     } else {
-        changes = halftoneShell(predictor.labels(), owner, bestMixture);
+        changes = halftoneShell(predictor.labels(), owner, bestMixture, method);
     }
     predictor.changeLabels(changes);
 }
@@ -411,7 +423,11 @@ NextStep nextStep(const OptimizeSettings& settings, const OptimizeResult& result
 struct RestoreSettings {
     Predictor& predictor;
     RenderSettings saved;
-    ~RestoreSettings() { predictor.settings() = saved; }
+    CarryOver savedCarryOver;
+    ~RestoreSettings() {
+        predictor.settings() = saved;
+        predictor.carryOver() = savedCarryOver;
+    }
 };
 
 }  // namespace
@@ -425,7 +441,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const LabelGrid given = predictor.labels().withChanges({});
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
-    RestoreSettings restore{predictor, predictor.settings()};
+    RestoreSettings restore{predictor, predictor.settings(), predictor.carryOver()};
+    predictor.carryOver().enabled = settings.carryOver;
     // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =
@@ -455,6 +472,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         it.iteration = iteration;
         it.predictor = predictor.settings().integrator;
         it.spp = predictor.settings().spp;
+        it.retracedVoxels = p.retracedVoxels;
+        for (uint32_t s : p.samples) it.meanSamples += double(s) / double(n);
         scoreIteration(now, goal, aim.mapped, noisy, it);
         // A new best only if it beats the last by a margin, on the wide
         // score: at the footprint the predictions' noise dominates the score
@@ -486,15 +505,16 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
         }
-        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture);
+        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture, settings.halftone);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         result.iterations.push_back(it);
         if (onIteration) onIteration(it);
         t0 = Clock::now();
-        // A new seed each iteration: the loop must not fit one noise realisation.
-        predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
+        // A new seed each iteration: the loop must not fit one noise
+        // realisation. Carrying over, new samples of the same seed.
+        if (!settings.carryOver) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
         if (next.switchToMonteCarlo) predictor.settings().integrator = monteCarlo;
         if (next.moreSamples) {
             predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);
@@ -508,8 +528,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
                                                labFromLinearSrgb(result.mappedSeen[i])));
     if (result.bestIteration != result.iterations.back().iteration)
-        restoreBestLabels(predictor, given, owner, result.bestIteration, bestMixture);
+        restoreBestLabels(predictor, given, owner, result.bestIteration, bestMixture, settings.halftone);
     if (settings.judge) {
+        predictor.carryOver().enabled = false;  // independent renders
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
         result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.mapped, environment);
     }

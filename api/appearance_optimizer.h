@@ -53,6 +53,13 @@ struct OptimizeSettings {
     // at half the error of 2 spp's, where their noise stalls the loop).
     uint32_t mostSpp = 8;
     float shellDepth_mm = 1.0f;
+    // How the shell's mixtures become labels (prepare/halftone.h).
+    HalftoneMethod halftone = HalftoneMethod::ErrorDiffusion;
+    // Predictions that carry over (api/predictor.h, CarryOver): one seed
+    // for the loop, each prediction adding the settings' spp to the
+    // samples its changes did not reach (otherwise a new seed and a
+    // prediction afresh each iteration).
+    bool carryOver = false;
     float step = 0.8f;  // share of the error one iteration corrects, at the measured gain
     // The error is averaged with a Gaussian of this sigma on the surface, by
     // default the eye's footprint: detail finer than the eye sees is left
@@ -91,6 +98,10 @@ struct OptimizeIteration {
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;       // prediction plus update
     size_t changedVoxels = 0;
+    // Carrying over: the surface voxels whose kept samples this
+    // iteration's prediction traced again, and the mean samples a voxel held.
+    size_t retracedVoxels = 0;
+    double meanSamples = 0;
     // Share of the surface voxels whose request, after this prediction,
     // lay more than 1 Delta E*ab from the nearest printable colour found
     // for it: where the print would need colours the printer cannot show.

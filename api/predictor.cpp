@@ -21,6 +21,16 @@ struct Predictor::State {
     std::unique_ptr<SurfaceVoxelSensor> sensor;
 };
 
+// The samples a prediction leaves for the next (CarryOver).
+struct Predictor::CarriedSamples {
+    RenderSettings settings;  // they were drawn with (spp aside)
+    Film film;
+    PathFootprints footprints;
+    std::vector<uint32_t> firstSample;  // per voxel: its samples are [firstSample, drawn)
+    uint32_t drawn = 0;
+    std::vector<uint8_t> changedBricks;  // relabelled since, by MajorantGrid's brick index
+};
+
 Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings, SceneNeeds alsoNeeds)
     : state_(std::make_unique<State>()), settings_(settings) {
     if (desc.sensor.type != "surface_voxels")
@@ -95,6 +105,14 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         state_->surfaceVoxels = std::move(surface);
         state_->sensor = std::move(sensor);
     }
+    // Kept samples survive a relabelling of voxels alone; their paths are
+    // checked against the relabelled bricks at the next prediction.
+    if (sensor || !changed) {
+        carried_.reset();
+    } else if (carried_) {
+        const MajorantGrid& bricks = state_->scene.medium->majorants();
+        for (const Vec3i& v : *changed) carried_->changedBricks[bricks.brickIndex(MajorantGrid::brickOf(v))] = 1;
+    }
     pendingUpdateSeconds_ += secondsSince(t0);
 }
 
@@ -142,9 +160,84 @@ bool converged(const Film& film, size_t p, const std::vector<int>& channels, con
 }
 }  // namespace
 
+namespace {
+// Whether samples drawn with `a` may be pooled with samples drawn with `b`:
+// the same paths but for their number (the options of the estimators that
+// record footprints, volpath's, included).
+bool sameButSpp(const RenderSettings& a, const RenderSettings& b) {
+    return a.integrator == b.integrator && a.seed == b.seed && a.reentry == b.reentry && a.channels == b.channels &&
+           a.channelSampling == b.channelSampling && a.majorants == b.majorants &&
+           a.volpath.maxDepth == b.volpath.maxDepth && a.volpath.clearanceFirst == b.volpath.clearanceFirst;
+}
+
+// The film's estimate of every voxel, into p.
+void readFilm(const Film& film, const RenderSettings& rs, SurfacePrediction& p) {
+    const size_t n = film.pixelCount();
+    p.radiance.resize(n);
+    p.standardError.resize(n);
+    p.samples.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        p.radiance[i] = film.meanRGB(i);
+        p.standardError[i] = film.standardErrorRGB(i);
+        p.samples[i] = film.samples(i, rs.channels.front());
+    }
+}
+}  // namespace
+
+void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction& p) {
+    const Sensor& sensor = *state_->sensor;
+    const size_t n = sensor.pixelCount();
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderRounds rounds(state_->scene, sensor, rs, false, true, controlMeans_);
+    p.startedAfresh = !carried_ || !sameButSpp(carried_->settings, rs);
+    if (p.startedAfresh) {
+        carried_ = std::make_unique<CarriedSamples>();
+        carried_->settings = rs;
+        carried_->film = Film(n);
+        carried_->footprints = PathFootprints(n);
+        carried_->firstSample.assign(n, 0);
+        carried_->changedBricks.assign(state_->scene.medium->majorants().brickCount(), 0);
+    }
+    CarriedSamples& c = *carried_;
+    Film& film = rounds.result().film;
+    film = std::move(c.film);
+    rounds.recordFootprints(&c.footprints);
+    // The voxels whose paths met a relabelled brick: their last
+    // retraceSamples kept samples traced again, grouped by first sample.
+    std::map<uint32_t, std::vector<uint32_t>> retraceFrom;
+    const uint32_t retraced = std::min(c.drawn, carryOver_.retraceSamples);
+    for (size_t i = 0; i < n; ++i) {
+        if (!c.footprints.meets(i, c.changedBricks)) continue;
+        ++p.retracedVoxels;
+        film.clearPixel(i);
+        c.footprints.clear(i);
+        c.firstSample[i] = std::max(c.firstSample[i], c.drawn - retraced);
+        if (c.firstSample[i] < c.drawn) retraceFrom[c.firstSample[i]].push_back(uint32_t(i));
+    }
+    std::fill(c.changedBricks.begin(), c.changedBricks.end(), uint8_t(0));
+    rounds.result().seconds += secondsSince(t0);
+    for (const auto& [first, pixels] : retraceFrom) rounds.render(&pixels, first, c.drawn - first);
+    rounds.render(nullptr, c.drawn, rs.spp);
+    c.drawn += rs.spp;
+    readFilm(film, rs, p);
+    p.stats = rounds.stats();
+    p.renderSeconds = rounds.result().seconds;
+    c.film = std::move(film);
+}
+
 SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
+    if (carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ && rs.majorants == Majorants::PerBrick &&
+        capabilitiesOf(rs).recordsFootprints) {
+        SurfacePrediction p;
+        p.voxels = surfaceVoxels();
+        predictCarryingOver(rs, p);
+        p.updateSeconds = pendingUpdateSeconds_;
+        pendingUpdateSeconds_ = 0;
+        return p;
+    }
+    carried_.reset();
     const Sensor& sensor = *state_->sensor;
     // One integrator for all rounds: its census and means are made once.
     // Across ranks each renders its share of a round's pixels and every
@@ -178,16 +271,8 @@ SurfacePrediction Predictor::predict() {
         }
     }
     SurfacePrediction p;
-    size_t n = state_->sensor->pixelCount();
     p.voxels = surfaceVoxels();
-    p.radiance.resize(n);
-    p.standardError.resize(n);
-    p.samples.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        p.radiance[i] = r.film.meanRGB(i);
-        p.standardError[i] = r.film.standardErrorRGB(i);
-        p.samples[i] = r.film.samples(i, rs.channels.front());
-    }
+    readFilm(r.film, rs, p);
     p.stats = rounds.stats();
     p.voxelsShareSamples = capabilitiesOf(rs).lightPathsServeEveryPixel;
     p.renderSeconds = r.seconds;

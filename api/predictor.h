@@ -20,6 +20,11 @@ struct SurfacePrediction {
     std::vector<Vec3i> voxels;  // the surface voxels, in sensor order (z, then y, then x)
     std::vector<RGB> radiance, standardError;
     std::vector<uint32_t> samples;  // per voxel (per channel rendered)
+    // Carrying over (Predictor::carryOver): the voxels whose kept samples
+    // were traced again because their paths met a relabelled brick, and
+    // whether the prediction started afresh.
+    size_t retracedVoxels = 0;
+    bool startedAfresh = true;
     // Whether voxels share samples (light paths score many): their errors
     // are then correlated, not independent.
     bool voxelsShareSamples = false;
@@ -39,6 +44,23 @@ struct AdaptiveSampling {
     uint32_t roundSpp = 8;
     uint32_t maxSpp = 1024;
     double maxSeconds = 0;  // 0: none; a time budget makes results depend on the machine
+};
+
+// Predictions that carry over: the samples of earlier predictions are kept
+// while the labels their paths read stay as they were. Each prediction
+// adds settings().spp samples per voxel, the next sample indices of the
+// same seed; a voxel whose paths met a relabelled brick (PathFootprints)
+// has its kept samples traced again with the same random numbers, so
+// every voxel holds the bits of a render of its samples in one go. Of a
+// touched voxel's kept samples at most the last retraceSamples are traced
+// again, the older ones dropped (by index, whatever their paths did: the
+// estimate stays unbiased). It needs an estimator that records footprints
+// (volpath), per-brick majorants, one process and no adaptive sampling
+// (otherwise every prediction starts afresh), and starts afresh after
+// setLabels, a change of shape, or a change of any setting but spp.
+struct CarryOver {
+    bool enabled = false;
+    uint32_t retraceSamples = 1u << 30;
 };
 
 class Predictor {
@@ -69,6 +91,7 @@ public:
     RenderSettings& settings() { return settings_; }
     const RenderSettings& settings() const { return settings_; }
     AdaptiveSampling& adaptive() { return adaptive_; }
+    CarryOver& carryOver() { return carryOver_; }
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
     // The surface voxels in the order predict() reports them, and where
@@ -84,11 +107,16 @@ private:
     // occupancyChanged: whether any voxel may have turned void or non-void;
     // changed: the relabelled voxels (null: the whole grid is new).
     void install(LabelGrid grid, bool occupancyChanged, const std::vector<Vec3i>* changed);
+    // predict() with the samples carried over (CarryOver), into p.
+    void predictCarryingOver(const RenderSettings& rs, SurfacePrediction& p);
 
     struct State;
     std::unique_ptr<State> state_;
     RenderSettings settings_;
     AdaptiveSampling adaptive_;
+    CarryOver carryOver_;
+    struct CarriedSamples;
+    std::unique_ptr<CarriedSamples> carried_;  // what the last prediction left; none: start afresh
     bool acrossRanks_ = false;
     double pendingUpdateSeconds_ = 0;
     // printpt's Monte Carlo control means, kept across iterations (they

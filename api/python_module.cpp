@@ -49,6 +49,8 @@ py::dict toDict(const SurfacePrediction& p) {
     d["samples"] = samples;
     d["update_seconds"] = p.updateSeconds;
     d["render_seconds"] = p.renderSeconds;
+    d["retraced_voxels"] = p.retracedVoxels;
+    d["started_afresh"] = p.startedAfresh;
     return d;
 }
 
@@ -90,8 +92,8 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
                  float extrude_mm, float margin_mm, std::optional<std::array<float, 3>> color,
                  const std::string& halftone, std::optional<std::string> units) {
     if (std::filesystem::path(output).extension() != ".vdb") throw std::invalid_argument("output must be a .vdb file");
-    if (halftone != "error-diffusion" && halftone != "nearest")
-        throw std::invalid_argument("halftone must be error-diffusion or nearest");
+    const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, halftone);
+    if (!method) throw std::invalid_argument("halftone must be error-diffusion, thresholds or nearest");
     MeshPlacement placement;
     if (units) {
         placement.unit = parseLengthUnit(*units);
@@ -103,8 +105,7 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
     settings.extrude_mm = extrude_mm;
     settings.margin_mm = margin_mm;
     if (color) settings.color = RGB{(*color)[0], (*color)[1], (*color)[2]};
-    settings.halftone = halftone == "nearest" ? PrepareSettings::Halftone::Nearest
-                                              : PrepareSettings::Halftone::ErrorDiffusion;
+    settings.halftone = *method;
     MeshAsset asset = loadMeshAsset(model, placement);
     Geometry geometry(std::move(asset.mesh));
     PreparedModel prepared = prepareModel(geometry, asset.appearance, settings);
@@ -130,7 +131,7 @@ PYBIND11_MODULE(printlight, m) {
              "Loads a scene JSON (sensor surface_voxels): mesh, BVH, sensor and materials, once.")
         .def("predict", [](Predictor& p) { return toDict(p.predict()); },
              "Renders the current labels: dict with voxels (N,3) int32, radiance and stderr (N,3) float32, "
-             "samples (N,) uint32, update_seconds, render_seconds.")
+             "samples (N,) uint32, update_seconds, render_seconds, retraced_voxels, started_afresh.")
         .def("change_labels", &changeLabels, py::arg("voxels"), py::arg("labels"),
              "Relabels voxels: (N,3) grid indices and (N,) labels (the void label empties a voxel).")
         .def("labels", &labelsOf, "The current labels as a dense (nz, ny, nx) uint8 array.")
@@ -146,6 +147,9 @@ PYBIND11_MODULE(printlight, m) {
                           if (v < 1) throw std::invalid_argument("spp must be at least 1");
                           p.settings().spp = v;
                       })
+        .def_property("carry_over", [](Predictor& p) { return p.carryOver().enabled; },
+                      [](Predictor& p, bool on) { p.carryOver().enabled = on; },
+                      "keep the samples that label changes cannot reach; each predict adds spp more (docs/api.md)")
         .def_property("seed", [](Predictor& p) { return p.settings().seed; },
                       [](Predictor& p, uint64_t v) { p.settings().seed = v; })
         .def_property("integrator", [](Predictor& p) { return p.settings().integrator; },

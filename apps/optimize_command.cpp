@@ -88,6 +88,12 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
         os.shellDepth_mm = float(*s);
     }
+    os.carryOver = args.has("--carry-over");
+    if (auto h = args.value("--halftone")) {
+        const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, *h);
+        if (!method) throw UsageError("--halftone must be error-diffusion, thresholds or nearest");
+        os.halftone = *method;
+    }
     if (auto s = args.number("--update-footprint-mm")) {
         if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
         os.updateFootprint_mm = float(*s);
@@ -256,6 +262,12 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kSeedOption,
                     {"--step", "X", "share of the error one iteration corrects, at each voxel's measured gain (0..2]"},
                     {"--shell-mm", "D", "depth of the shell whose labels change"},
+                    {"--halftone", "error-diffusion|thresholds",
+                     "how the shell's mixtures become labels (default error-diffusion; thresholds: a blue-noise "
+                     "matrix, where a request that moves little relabels few voxels)"},
+                    {"--carry-over", "",
+                     "keep the predictions' samples that the label changes cannot reach, adding --spp each iteration "
+                     "(one seed; volpath)"},
                     kThreadsOption,
                     integratorOption(),
                     {"--predictor", "NAME|auto",
@@ -318,16 +330,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000,mean_de2000_wide,outside_share,spp\n";
+        "noise_de2000,mean_de2000_wide,outside_share,spp,retraced_voxels,mean_samples\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
-        char line[208];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u\n", it.iteration,
+        char line[256];
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u,%zu,%.1f\n", it.iteration,
                       it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds,
                       it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide, it.outsideShare,
-                      it.spp);
+                      it.spp, it.retracedVoxels, it.meanSamples);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);

@@ -44,9 +44,9 @@ PrepareSettings prepareSettingsOf(const Arguments& args) {
     for (int a = 0; a < 3; ++a)
         if (!(ps.voxel_mm[a] >= 1e-4f && ps.voxel_mm[a] <= 10.0f)) throw UsageError("--voxel sizes must be in [0.0001, 10] mm");
     const std::string halftone = args.value("--halftone").value_or("error-diffusion");
-    if (halftone != "error-diffusion" && halftone != "nearest")
-        throw UsageError("--halftone must be error-diffusion or nearest");
-    ps.halftone = halftone == "nearest" ? PrepareSettings::Halftone::Nearest : PrepareSettings::Halftone::ErrorDiffusion;
+    const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, halftone);
+    if (!method) throw UsageError("--halftone must be error-diffusion, thresholds or nearest");
+    ps.halftone = *method;
     const std::string fill = args.value("--fill").value_or("conservative");
     if (fill != "conservative" && fill != "center") throw UsageError("--fill must be conservative or center");
     ps.fill = fill == "center" ? PrepareSettings::Fill::Centre : PrepareSettings::Fill::Conservative;
@@ -281,7 +281,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                      "how a colour becomes a mixture of the resins: the printer's characterisation of the material "
                      "table (default with --materials or --scene-out; made on first use) or a simple subtractive model"},
                     {"--gamut", "FILE", "the printer's characterisation for --mixing gamut (default: the material table's)"},
-                    {"--halftone", "error-diffusion|nearest", "how a mixture becomes resin labels"},
+                    {"--halftone", "error-diffusion|thresholds|nearest", "how a mixture becomes resin labels"},
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
                     {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
                     {"--keep-colors", "", "also write the colour grid the labels were halftoned from"},

@@ -66,6 +66,11 @@ public:
     }
 
     size_t pixelCount() const { return pixelCount_; }
+    // Forgets a pixel's samples in every open channel (to add them again).
+    void clearPixel(size_t pixel) {
+        for (int c = 0; c < kChannels; ++c)
+            if (!settled_[c] && !acc_[c].empty()) acc_[c][pixel] = Accumulator{};
+    }
     void add(size_t pixel, int channel, float value) { addGroup(pixel, channel, value, 1); }
     void add(size_t pixel, int channel, const ChannelSample& sample) {
         addGroup(pixel, channel, sample.value, 1);

@@ -5,39 +5,54 @@
 namespace pl {
 
 void PixelIntegrator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
+    renderPixelTiles(pass, stats, progress, pass.count, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
+        const size_t p = pass.share.pixel(i);
+        if (!pass.footprints) {
+            renderPixel(pass, film, i, p, medium, tileStats);
+            return;
+        }
+        // The bricks this pixel's paths read.
+        thread_local std::vector<uint32_t> bricks;
+        bricks.clear();
+        medium.recordBricks(&bricks);
+        renderPixel(pass, film, i, p, medium, tileStats);
+        medium.recordBricks(nullptr);
+        pass.footprints->add(p, bricks);
+    });
+}
+
+void PixelIntegrator::renderPixel(const RenderPass& pass, Film& film, size_t i, size_t p, LabelMedium::Tracker& medium,
+                                  PathStats& tileStats) const {
     const PixelShare& share = pass.share;
     const uint32_t endSample = pass.firstSample + pass.count;
-    renderPixelTiles(pass, stats, progress, pass.count, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
-        const size_t p = share.pixel(i);
-        // Hero channels go round the samples from a random start per
-        // pixel (independent of the paths): each sample's hero is
-        // uniform, and every three samples of a pixel have all three.
-        const uint32_t heroOffset = uint32_t(mix64(mix64(pass.seed ^ 0x6865726fULL) ^ p) % 3);
-        // Stratified heroes: samples 3j, 3j+1, 3j+2 go to the film as one group.
-        double group[3] = {0, 0, 0};
-        uint32_t inGroup = 0;
-        for (uint32_t s = pass.firstSample; s < endSample; ++s) {
-            if (interruptRequested()) return;  // Ctrl-C: the film is discarded by the caller
-            // The path's random stream depends only on (seed, pixel, sample, channel or 3 for all).
-            Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel < 0 ? 3 : pass.channel));
-            float u0 = rng.uniform(), u1 = rng.uniform();
-            Ray ray = pass.sensor.generateRay(p, u0, u1);
-            if (pass.channel >= 0) {
-                film.add(share.filmPixel(i), pass.channel, Li(ray, pass.channel, medium, rng, tileStats));
-                continue;
-            }
-            int hero = int((s + heroOffset) % 3);
-            RGB L = LiRGB(ray, pass.channelSampling, hero, medium, rng, tileStats);
-            for (int c = 0; c < 3; ++c) group[c] += L[c];
-            ++inGroup;
-            const bool stratified = pass.channelSampling == ChannelSampling::Hero;
-            if (!stratified || s % 3 == 2 || s + 1 == endSample) {
-                for (int c = 0; c < 3; ++c) film.addGroup(share.filmPixel(i), c, group[c], inGroup);
-                group[0] = group[1] = group[2] = 0;
-                inGroup = 0;
-            }
+    // Hero channels go round the samples from a random start per
+    // pixel (independent of the paths): each sample's hero is
+    // uniform, and every three samples of a pixel have all three.
+    const uint32_t heroOffset = uint32_t(mix64(mix64(pass.seed ^ 0x6865726fULL) ^ p) % 3);
+    // Stratified heroes: samples 3j, 3j+1, 3j+2 go to the film as one group.
+    double group[3] = {0, 0, 0};
+    uint32_t inGroup = 0;
+    for (uint32_t s = pass.firstSample; s < endSample; ++s) {
+        if (interruptRequested()) return;  // Ctrl-C: the film is discarded by the caller
+        // The path's random stream depends only on (seed, pixel, sample, channel or 3 for all).
+        Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel < 0 ? 3 : pass.channel));
+        float u0 = rng.uniform(), u1 = rng.uniform();
+        Ray ray = pass.sensor.generateRay(p, u0, u1);
+        if (pass.channel >= 0) {
+            film.add(share.filmPixel(i), pass.channel, Li(ray, pass.channel, medium, rng, tileStats));
+            continue;
         }
-    });
+        int hero = int((s + heroOffset) % 3);
+        RGB L = LiRGB(ray, pass.channelSampling, hero, medium, rng, tileStats);
+        for (int c = 0; c < 3; ++c) group[c] += L[c];
+        ++inGroup;
+        const bool stratified = pass.channelSampling == ChannelSampling::Hero;
+        if (!stratified || s % 3 == 2 || s + 1 == endSample) {
+            for (int c = 0; c < 3; ++c) film.addGroup(share.filmPixel(i), c, group[c], inGroup);
+            group[0] = group[1] = group[2] = 0;
+            inGroup = 0;
+        }
+    }
 }
 
 std::string refusalWithoutReentry(const char* name, const RenderSettings& settings) {

@@ -15,6 +15,7 @@
 #include "core/path_stats.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
+#include "integrators/path_footprints.h"
 #include "runtime/pixel_share.h"
 #include "runtime/interrupt.h"
 #include "runtime/progress.h"
@@ -110,6 +111,10 @@ struct IntegratorCapabilities {
     // rank renders a fixed share of the pixels in step with the others
     // (no work stealing) and its film holds that share alone.
     bool lightPathsServeEveryPixel = false;
+    // Its paths read the labels through the tracker's free flights and
+    // labelAt alone, and it adds where they went to RenderPass::footprints
+    // (the prediction API then keeps the samples a change cannot reach).
+    bool recordsFootprints = false;
     // The sensors it takes (the scene parser refuses others).
     SensorKinds sensors = kEverySensorKind;
 };
@@ -127,6 +132,9 @@ struct RenderPass {
     uint64_t seed;
     Majorants majorants;
     ChannelSampling channelSampling;
+    // Where each pixel's paths went is added here, if wanted (estimators
+    // whose capabilities say recordsFootprints).
+    PathFootprints* footprints = nullptr;
 };
 
 // An estimator: it renders passes, each in the way it needs (one camera
@@ -188,6 +196,11 @@ public:
     virtual RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,
                       PathStats& stats) const = 0;
     void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const final;
+
+private:
+    // The pass's samples of pixel p (position i of the share), in order.
+    void renderPixel(const RenderPass& pass, Film& film, size_t i, size_t p, LabelMedium::Tracker& medium,
+                     PathStats& tileStats) const;
 };
 
 // The refusal of an estimator that traces no re-entry, for a scene that

@@ -18,6 +18,7 @@ IntegratorCapabilities VolPath::capabilities(const RenderSettings& settings) {
     IntegratorCapabilities c;
     c.needs = {false, settings.volpath.clearanceFirst};
     c.threeChannelsInOnePath = true;
+    c.recordsFootprints = true;
     return c;
 }
 

@@ -53,6 +53,8 @@ LabelMedium::Tracker::~Tracker() = default;
 
 Label LabelMedium::Tracker::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
+    if (recordedBricks_)
+        recordedBricks_->push_back(uint32_t(medium_.majorants_.brickIndex(MajorantGrid::brickOf(v))));
     return impl_->accessor.getValue(toCoord(v));
 }
 
@@ -67,8 +69,19 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
         };
         return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
     }
+    const MajorantGrid& majorants = medium_.majorants_;
+    if (recordedBricks_) {
+        auto recorded = [&](auto&& visit) {
+            return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants,
+                                       [&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
+                                           recordedBricks_->push_back(uint32_t(majorants.brickIndexOf(*segment.bounds)));
+                                           return visit(segment, out);
+                                       });
+        };
+        return sampleMajorantFlight(cellRay, recorded, events, labelAt, rng);
+    }
     auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
-        return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), medium_.majorants_, visit);
+        return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants, visit);
     };
     return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
 }

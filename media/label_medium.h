@@ -76,6 +76,14 @@ public:
         // through dense resin (trackers.h).
         float transmittance(const Ray& ray, float tMax_mm, int channel, TransmittanceRoulette roulette = {});
         Label labelAt(const Vec3i& voxel);
+        // Where the tracker's answers came from: from now on, the index
+        // (MajorantGrid::brickIndex) of every brick whose bounds a flight
+        // entered or whose voxel labelAt read is appended to `bricks` (none:
+        // stop). Every label the answers depend on lies in those bricks, so
+        // a path that met no relabelled brick is the same path after the
+        // change. Free flights (per brick) and labelAt only: regular
+        // tracking and the global majorant are not recorded.
+        void recordBricks(std::vector<uint32_t>* bricks) { recordedBricks_ = bricks; }
         // Outward normal of the nearest surface and signed distance (mm) at
         // p, from the surface fields; none outside their band.
         struct NearestSurface {
@@ -93,6 +101,7 @@ public:
         std::unique_ptr<Impl> impl_;
         const LabelMedium& medium_;
         Majorants majorants_;
+        std::vector<uint32_t>* recordedBricks_ = nullptr;
     };
 
 private:

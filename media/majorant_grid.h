@@ -77,6 +77,9 @@ public:
     const Bounds& bounds(const Vec3i& brick) const { return at(brick); }
     const Bounds& wholeGrid() const { return wholeGrid_; }
 
+    // The index of a brick's bounds (as bounds(brick) returns them).
+    size_t brickIndexOf(const Bounds& b) const { return size_t(&b - bricks_.data()); }
+    size_t brickCount() const { return bricks_.size(); }
     size_t brickIndex(const Vec3i& b) const {
         return (size_t(b.z - brickMin_.z) * (brickMax_.y - brickMin_.y) + (b.y - brickMin_.y)) *
                    (brickMax_.x - brickMin_.x) + (b.x - brickMin_.x);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "prepare/threshold_matrix.h"
+
 namespace pl {
 
 MaterialFractions fractionsForColor(const RGB& linear) {
@@ -12,6 +14,28 @@ MaterialFractions fractionsForColor(const RGB& linear) {
     MaterialFractions f{c - k, m - k, y - k, k, 0.0f};
     f[4] = std::max(0.0f, 1.0f - (f[0] + f[1] + f[2] + f[3]));
     return f;
+}
+
+int materialAtThreshold(const MaterialFractions& fractions, float threshold) {
+    // Material indices (kPrintMaterialLabel's order) from the lightest.
+    constexpr int kLightestFirst[kPrintMaterials] = {4, 2, 0, 1, 3};
+    float total = 0;
+    for (float f : fractions) total += std::max(f, 0.0f);
+    const float t = threshold * total;
+    float below = 0;
+    int last = kLightestFirst[0];
+    for (int m : kLightestFirst) {
+        const float f = std::max(fractions[size_t(m)], 0.0f);
+        if (f <= 0) continue;
+        below += f;
+        last = m;
+        if (t < below) return m;
+    }
+    return last;  // round-off at the top
+}
+
+int largestFraction(const MaterialFractions& fractions) {
+    return int(std::max_element(fractions.begin(), fractions.end()) - fractions.begin());
 }
 
 ErrorDiffusionHalftoner::ErrorDiffusionHalftoner(int resX, int resY)
@@ -73,15 +97,27 @@ void ErrorDiffusionHalftoner::halftoneSlice(int z, const std::vector<MaterialFra
 }
 
 void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
-                   const std::function<void(size_t, int)>& chosen) {
+                   const std::function<void(size_t, int)>& chosen, HalftoneMethod method, const Vec3i& indexMin,
+                   const Vec3f& voxelSize_mm) {
     const size_t sliceSize = size_t(resolution.x) * size_t(resolution.y);
     ErrorDiffusionHalftoner halftoner(resolution.x, resolution.y);
+    const ThresholdMatrix* thresholds =
+        method == HalftoneMethod::Thresholds ? &ThresholdMatrix::forVoxel(voxelSize_mm) : nullptr;
     std::vector<MaterialFractions> targets(sliceSize);
-    std::vector<uint8_t> active(sliceSize), material;
+    std::vector<uint8_t> active(sliceSize), material(sliceSize);
     for (int z = 0; z < resolution.z; ++z) {
         const size_t slice = size_t(z) * sliceSize;
         for (size_t i = 0; i < sliceSize; ++i) active[i] = wanted(slice + i, targets[i]);
-        halftoner.halftoneSlice(z, targets, active, material);
+        if (method == HalftoneMethod::ErrorDiffusion) {
+            halftoner.halftoneSlice(z, targets, active, material);
+        } else {
+            for (size_t i = 0; i < sliceSize; ++i) {
+                if (!active[i]) continue;
+                const Vec3i v = indexMin + Vec3i{int(i % resolution.x), int(i / resolution.x), z};
+                material[i] = uint8_t(thresholds ? materialAtThreshold(targets[i], thresholds->at(v))
+                                                 : largestFraction(targets[i]));
+            }
+        }
         for (size_t i = 0; i < sliceSize; ++i)
             if (active[i]) chosen(slice + i, material[i]);
     }

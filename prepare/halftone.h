@@ -12,6 +12,8 @@
 //    it got goes to unvisited neighbours (5/16 next in the row, 3/16, 2/16,
 //    1/16 in the next row, 5/16 in the next slice), renormalised over the
 //    neighbours that take part, so material fractions are preserved.
+//  - Halftoning by thresholds (materialAtThreshold): ordered dithering with
+//    a blue-noise threshold matrix (prepare/threshold_matrix.h).
 #pragma once
 
 #include <array>
@@ -19,6 +21,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/enum_names.h"
 #include "core/rgb.h"
 #include "core/vecmath.h"
 #include "media/materials.h"
@@ -32,6 +35,27 @@ constexpr Label kPrintMaterialLabel[kPrintMaterials] = {kCyanLabel, kMagentaLabe
                                                         kWhiteLabel};
 
 MaterialFractions fractionsForColor(const RGB& linear);
+
+// How mixtures become labels: vector error diffusion, thresholds of a
+// blue-noise matrix, or each voxel's largest fraction (no halftone).
+enum class HalftoneMethod { ErrorDiffusion, Thresholds, Nearest };
+inline constexpr std::array<EnumName<HalftoneMethod>, 3> kHalftoneMethodNames{
+    {{HalftoneMethod::ErrorDiffusion, "error-diffusion"},
+     {HalftoneMethod::Thresholds, "thresholds"},
+     {HalftoneMethod::Nearest, "nearest"}}};
+
+// Halftoning by thresholds: the materials, from the lightest to the
+// darkest (white, yellow, cyan, magenta, black), share [0, 1) by their
+// fractions, and a voxel takes the one whose share holds its threshold
+// (ThresholdMatrix::at). A voxel's material follows from its own fractions
+// alone: a request that moves by a fraction d relabels about a share d of
+// its voxels, where error diffusion carries any change along the rest of
+// the slice. The darkness of a uniform mixture's pattern is a monotone
+// function of the blue-noise matrix, so its grain is blue too.
+int materialAtThreshold(const MaterialFractions& fractions, float threshold);
+
+// The material of each voxel that has no neighbours' say: its largest fraction.
+int largestFraction(const MaterialFractions& fractions);
 
 class ErrorDiffusionHalftoner {
 public:
@@ -51,8 +75,10 @@ private:
 // Halftones a frame's voxels (index x fastest, then y, then z) slice by
 // slice: wanted(i, f) says whether voxel i takes part and sets the
 // fractions it asks for; chosen(i, m) receives the material index of each
-// voxel that does.
+// voxel that does. By thresholds, the matrix's voxel is indexMin + the
+// voxel's place in the frame.
 void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
-                   const std::function<void(size_t, int)>& chosen);
+                   const std::function<void(size_t, int)>& chosen, HalftoneMethod method = HalftoneMethod::ErrorDiffusion,
+                   const Vec3i& indexMin = {0, 0, 0}, const Vec3f& voxelSize_mm = {1, 1, 1});
 
 }  // namespace pl

@@ -9,6 +9,7 @@
 #include "runtime/memory_budget.h"
 #include "runtime/progress.h"
 #include "prepare/halftone.h"
+#include "prepare/threshold_matrix.h"
 
 namespace pl {
 
@@ -66,6 +67,8 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
     LabelGridBuilder labels(f, kVoidLabel);
     VoxelFields fields(vs.band_mm, settings.keepColors);
     ErrorDiffusionHalftoner halftoner(r.x, r.y);
+    const ThresholdMatrix* thresholds =
+        settings.halftone == HalftoneMethod::Thresholds ? &ThresholdMatrix::forVoxel(f.voxelSize_mm) : nullptr;
     std::vector<MaterialFractions> targets(size_t(r.x) * r.y);
     std::vector<uint8_t> active(targets.size()), chosen;
     std::vector<RGB> colors(targets.size());
@@ -85,12 +88,16 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
                 targets[at] = settings.mixtureFor ? settings.mixtureFor(c) : fractionsForColor(c);
                 active[at] = 1;
             }
-        if (settings.halftone == PrepareSettings::Halftone::ErrorDiffusion) {
+        if (settings.halftone == HalftoneMethod::ErrorDiffusion) {
             halftoner.halftoneSlice(z, targets, active, chosen);
         } else {
             chosen.assign(active.size(), 0);
-            for (size_t i = 0; i < active.size(); ++i)
-                if (active[i]) chosen[i] = uint8_t(std::max_element(targets[i].begin(), targets[i].end()) - targets[i].begin());
+            for (size_t i = 0; i < active.size(); ++i) {
+                if (!active[i]) continue;
+                const Vec3i v{int(i % r.x), int(i / r.x), z};  // as the labels are set below
+                chosen[i] = uint8_t(thresholds ? materialAtThreshold(targets[i], thresholds->at(v))
+                                               : largestFraction(targets[i]));
+            }
         }
         for (int y = 0; y < r.y; ++y)
             for (const VoxelSample& s : rows[size_t(y)].samples) {

@@ -27,7 +27,7 @@ struct PrepareSettings {
     Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // 600 x 300 dpi, 27 um layers
     float margin_mm = 0.12f;                   // void padding around the mesh
     float extrude_mm = 1.0f;                   // depth of the colour shell
-    enum class Halftone { ErrorDiffusion, Nearest } halftone = Halftone::ErrorDiffusion;
+    HalftoneMethod halftone = HalftoneMethod::ErrorDiffusion;
     // Which voxels are printed: any the surface crosses (conservative) or
     // those whose centre is inside.
     enum class Fill { Conservative, Centre } fill = Fill::Conservative;

@@ -44,6 +44,9 @@ public:
     // film and statistics hold the rounds so far (every rank's, with
     // filmOnEveryRank); a failure on any rank stops them all.
     void render(const std::vector<uint32_t>* pixels, uint32_t first, uint32_t count);
+    // Where each pixel's paths go in the rounds from now on is added here
+    // (in one process; the estimator must record footprints).
+    void recordFootprints(PathFootprints* footprints) { footprints_ = footprints; }
     RenderResult& result() { return result_; }
     // The statistics over the ranks (the result's are this rank's own).
     const PathStats& stats() const { return stats_; }
@@ -58,6 +61,7 @@ private:
     std::unique_ptr<Integrator> integrator_;
     RenderResult result_;
     PathStats stats_;
+    PathFootprints* footprints_ = nullptr;
 };
 
 struct ProgressiveRender {

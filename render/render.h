@@ -55,9 +55,11 @@ bool rendersChannelsInOnePass(const RenderSettings& settings);
 // call adds more, so each channel's pass is settled as soon as it ends
 // (Film::settleChannel; in one process): one channel's accumulators alive
 // at a time, and the same values as pooling them all at the end.
+// footprints: where each pixel's paths went is added there (an estimator
+// whose capabilities say recordsFootprints).
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
-                   RenderResult& result, bool lastSamples = false);
+                   RenderResult& result, bool lastSamples = false, PathFootprints* footprints = nullptr);
 
 // A share across MPI ranks: rank 0's film receives every rank's pixels
 // (and pools the errors over them all, with the sensor's neighbourhoods;

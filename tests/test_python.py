@@ -59,6 +59,22 @@ class PredictorTest(unittest.TestCase):
         self.p.change_labels(v, old)   # undo
         self.assertTrue(np.array_equal(self.p.predict()["radiance"], before["radiance"]))
 
+    def test_carry_over_adds_samples_and_retraces_what_changes_reach(self):
+        self.p.carry_over = True
+        try:
+            first = self.p.predict()
+            self.assertTrue(first["started_afresh"])
+            v = first["voxels"][:50]
+            old = self.p.labels()[v[:, 2], v[:, 1], v[:, 0]].copy()
+            self.p.change_labels(v, np.full(len(v), 3, dtype=np.uint8))
+            second = self.p.predict()
+            self.assertFalse(second["started_afresh"])
+            self.assertTrue(np.all(second["samples"] == 2))
+            self.assertTrue(0 < second["retraced_voxels"] < self.p.surface_voxel_count)
+            self.p.change_labels(v, old)   # undo
+        finally:
+            self.p.carry_over = False
+
     def test_errors_are_python_exceptions(self):
         with self.assertRaises(ValueError):
             self.p.change_labels(np.array([[0, 0, 0]]), np.array([9], dtype=np.uint8))   # no material 9

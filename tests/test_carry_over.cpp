@@ -1,0 +1,164 @@
+// Predictions that carry over (api/predictor.h, CarryOver): after label
+// changes, the kept samples of voxels whose paths met no relabelled brick
+// stay as they are and the others are traced again, so every prediction
+// holds the bits of a render of all its samples in one go; the reported
+// errors stay honest as the samples accumulate over a loop; settings and
+// whole grids start afresh.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "api/predictor.h"
+#include "core/rng.h"
+#include "io/grid_io.h"
+#include "io/mesh_io.h"
+#include "test_util.h"
+
+namespace pl {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr Label kCyan = 0, kMagenta = 1, kYellow = 2, kWhite = 4;
+// A 6 x 1 x 1 mm bar of 0.05 mm voxels (15 x 3 x 3 majorant bricks), white
+// under a halftone of cyan and magenta: its paths stay within a few
+// tenths of a millimetre, so a change at one end leaves the other's alone.
+const Vec3i kBar{120, 20, 20};
+const Vec3f kVoxel_mm{0.05f, 0.05f, 0.05f};
+
+Label barLabel(const Vec3i& v) {
+    const bool shell = v.y < 3 || v.z < 3 || v.y >= kBar.y - 3 || v.z >= kBar.z - 3 || v.x < 3 || v.x >= kBar.x - 3;
+    if (!shell) return kWhite;
+    return (mix64(uint64_t(v.x) * 7919 + uint64_t(v.y) * 131 + uint64_t(v.z)) & 3) == 0 ? kMagenta : kCyan;
+}
+
+fs::path writeBarScene(const std::string& name) {
+    fs::path dir = test::freshTempDir("carry_over_" + name);
+    writeObj(test::boxMesh({0, 0, 0}, {6, 1, 1}), dir / "bar.obj");
+    writeLabelGridBin(test::boxGrid(kBar, kVoxel_mm, barLabel), dir / "grid.bin");
+    fs::copy_file(test::sourceDir() / "data/materials/resins_illustrative.json", dir / "materials.json");
+    std::ofstream(dir / "scene.json") << R"({"object": {"mesh": "bar.obj", "labels": "grid.bin", "materials": "materials.json"},
+        "sensor": {"type": "surface_voxels"},
+        "render": {"integrator": "volpath", "spp": 3, "seed": 5, "channel": "rgb"}})";
+    return dir / "scene.json";
+}
+
+// Relabels the shell voxels of x in [x0, x1) at random (yellow or white).
+std::vector<LabelGrid::Change> changesAt(int x0, int x1, uint64_t seed) {
+    std::vector<LabelGrid::Change> changes;
+    for (int z = 0; z < kBar.z; ++z)
+        for (int y = 0; y < kBar.y; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const Vec3i v{x, y, z};
+                if (barLabel(v) == kWhite) continue;
+                const uint64_t h = mix64(seed ^ mix64(uint64_t((z * kBar.y + y) * kBar.x + x)));
+                if ((h & 7) == 0) changes.push_back({v, (h & 8) ? kYellow : kWhite});
+            }
+    return changes;
+}
+
+void expectSameBits(const SurfacePrediction& a, const SurfacePrediction& b) {
+    ASSERT_EQ(a.radiance.size(), b.radiance.size());
+    size_t differ = 0;
+    for (size_t i = 0; i < a.radiance.size(); ++i)
+        differ += a.radiance[i] != b.radiance[i] || a.standardError[i] != b.standardError[i] || a.samples[i] != b.samples[i];
+    EXPECT_EQ(differ, 0u) << "of " << a.radiance.size() << " voxels";
+}
+
+TEST(CarryOver, KeepsWhatNoChangeReachesAndEqualsAFullRenderOfTheSameSamples) {
+    const fs::path scene = writeBarScene("bits");
+    auto carried = Predictor::fromSceneFile(scene);
+    carried->carryOver().enabled = true;
+    SurfacePrediction p = carried->predict();
+    EXPECT_TRUE(p.startedAfresh);
+    const size_t n = p.radiance.size();
+    // Changes at one end, then the other: each prediction adds 3 samples.
+    carried->changeLabels(changesAt(0, 12, 1));
+    p = carried->predict();
+    EXPECT_FALSE(p.startedAfresh);
+    EXPECT_GT(p.retracedVoxels, 0u);
+    EXPECT_LT(p.retracedVoxels, n / 2) << "a change at one end reaches the whole bar";
+    carried->changeLabels(changesAt(100, 120, 2));
+    p = carried->predict();
+    EXPECT_GT(p.retracedVoxels, 0u);
+    EXPECT_LT(p.retracedVoxels, n / 2);
+    carried->changeLabels({});  // nothing relabelled: nothing traced again
+    p = carried->predict();
+    EXPECT_EQ(p.retracedVoxels, 0u);
+    for (uint32_t s : p.samples) ASSERT_EQ(s, 12u);
+
+    // The final labels rendered with all 12 samples in one go.
+    auto fresh = Predictor::fromSceneFile(scene);
+    fresh->setLabels(carried->labels().withChanges({}));
+    fresh->settings().spp = 12;
+    expectSameBits(p, fresh->predict());
+}
+
+// Two loops of independent seeds on the same label changes (each
+// iteration relabels a random stretch of the bar): their carried-over
+// estimates differ by their combined reported error at iterations 1, 4 and
+// 16, as two plain renders do.
+TEST(CarryOver, ErrorsStayHonestAsSamplesAccumulate) {
+    const fs::path scene = writeBarScene("honest");
+    std::unique_ptr<Predictor> loops[2];
+    for (int k = 0; k < 2; ++k) {
+        loops[k] = Predictor::fromSceneFile(scene);
+        loops[k]->carryOver().enabled = true;
+        loops[k]->settings().seed = 100 + uint64_t(k);
+        loops[k]->settings().spp = 1;
+    }
+    Rng rng(3, 1);
+    for (int iteration = 1; iteration <= 16; ++iteration) {
+        SurfacePrediction p[2];
+        for (int k = 0; k < 2; ++k) p[k] = loops[k]->predict();
+        if (iteration == 1 || iteration == 4 || iteration == 16) {
+            double sumZ2 = 0;
+            size_t count = 0, beyond4 = 0;
+            for (size_t i = 0; i < p[0].radiance.size(); ++i)
+                for (int c = 0; c < 3; ++c) {
+                    const double se2 = double(p[0].standardError[i][c]) * p[0].standardError[i][c] +
+                                       double(p[1].standardError[i][c]) * p[1].standardError[i][c];
+                    if (!(se2 > 0)) continue;
+                    const double z = (p[0].radiance[i][c] - p[1].radiance[i][c]) / std::sqrt(se2);
+                    sumZ2 += z * z;
+                    beyond4 += std::abs(z) > 4;
+                    ++count;
+                }
+            ASSERT_GT(count, 1000u);
+            EXPECT_GT(sumZ2 / double(count), 0.5) << "iteration " << iteration;
+            EXPECT_LT(sumZ2 / double(count), 1.6) << "iteration " << iteration;
+            EXPECT_LT(double(beyond4), 1e-3 * double(count)) << "iteration " << iteration;
+            EXPECT_EQ(p[0].samples[0], uint32_t(iteration));
+        }
+        const int x0 = int(rng.next32() % 100);
+        const std::vector<LabelGrid::Change> changes = changesAt(x0, x0 + 8, uint64_t(iteration));
+        for (int k = 0; k < 2; ++k) loops[k]->changeLabels(changes);
+    }
+}
+
+TEST(CarryOver, StartsAfreshOnANewGridOrOtherSettings) {
+    const fs::path scene = writeBarScene("afresh");
+    auto predictor = Predictor::fromSceneFile(scene);
+    predictor->carryOver().enabled = true;
+    predictor->predict();
+    predictor->settings().spp = 6;  // the samples a prediction adds: carried on
+    SurfacePrediction p = predictor->predict();
+    EXPECT_FALSE(p.startedAfresh);
+    EXPECT_EQ(p.samples[0], 9u);
+    predictor->settings().seed += 1;
+    p = predictor->predict();
+    EXPECT_TRUE(p.startedAfresh);
+    EXPECT_EQ(p.samples[0], 6u);
+    predictor->setLabels(predictor->labels().withChanges({}));
+    EXPECT_TRUE(predictor->predict().startedAfresh);
+    // Off: a plain prediction, the bits of the predictor without carry-over.
+    predictor->carryOver().enabled = false;
+    const SurfacePrediction off = predictor->predict();
+    auto plain = Predictor::fromSceneFile(scene);
+    plain->settings() = predictor->settings();
+    expectSameBits(off, plain->predict());
+}
+
+}  // namespace
+}  // namespace pl
