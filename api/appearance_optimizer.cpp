@@ -67,7 +67,8 @@ VoxelIntGrid shellOwners(const LabelGrid& labels, const std::vector<Vec3i>& surf
 // the changes against `labels`. Error diffusion walks the frame slice by
 // slice; by thresholds each shell voxel is decided alone.
 std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const VoxelIntGrid& owner,
-                                             const std::vector<MaterialFractions>& mixtures, HalftoneMethod method) {
+                                             const std::vector<MaterialFractions>& mixtures, HalftoneMethod method,
+                                             float hysteresis) {
     const GridFrame& frame = labels.frame();
     const DenseIndex at{frame.resolution};
     const LabelReader label(labels);
@@ -76,9 +77,11 @@ std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const Voxe
         const ThresholdMatrix& thresholds = ThresholdMatrix::forVoxel(frame.voxelSize_mm);
         owner.forEachSet([&](const Vec3i& v, int32_t o) {
             const MaterialFractions& f = mixtures[size_t(o)];
-            const int m = method == HalftoneMethod::Thresholds ? materialAtThreshold(f, thresholds.at(v))
-                                                                : largestFraction(f);
-            if (kPrintMaterialLabel[m] != label.at(v)) changes.push_back({v, kPrintMaterialLabel[m]});
+            const Label now = label.at(v);
+            const int m = method == HalftoneMethod::Thresholds
+                              ? materialAtThreshold(f, thresholds.at(v), printMaterialOf(now), hysteresis)
+                              : largestFraction(f);
+            if (kPrintMaterialLabel[m] != now) changes.push_back({v, kPrintMaterialLabel[m]});
         });
         return changes;
     }
@@ -373,19 +376,14 @@ private:
     std::vector<uint8_t> outside_;
 };
 
-// The labels of the best iteration: the labels as given (the loop changes
-// the shell alone), or the best mixtures' halftone.
-void restoreBestLabels(Predictor& predictor, const LabelGrid& given, const VoxelIntGrid& owner, int bestIteration,
-                       const std::vector<MaterialFractions>& bestMixture, HalftoneMethod method) {
+// The best iteration's labels back, over the shell (the loop changes
+// nothing else).
+void restoreBestLabels(Predictor& predictor, const LabelGrid& best, const VoxelIntGrid& owner) {
     std::vector<LabelGrid::Change> changes;
-    if (bestIteration == 0) {
-        const LabelReader now(predictor.labels()), before(given);
-        owner.forEachSet([&](const Vec3i& v, int32_t) {
-            if (now.at(v) != before.at(v)) changes.push_back({v, before.at(v)});
-        });
-    } else {
-        changes = halftoneShell(predictor.labels(), owner, bestMixture, method);
-    }
+    const LabelReader now(predictor.labels()), then(best);
+    owner.forEachSet([&](const Vec3i& v, int32_t) {
+        if (now.at(v) != then.at(v)) changes.push_back({v, then.at(v)});
+    });
     predictor.changeLabels(changes);
 }
 
@@ -438,7 +436,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     using Clock = std::chrono::steady_clock;
     const auto loopStart = Clock::now();
     const RGB environment = predictor.environment();
-    const LabelGrid given = predictor.labels().withChanges({});
+    LabelGrid bestLabels = predictor.labels().withChanges({});
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
     RestoreSettings restore{predictor, predictor.settings(), predictor.carryOver()};
@@ -462,7 +460,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     result.mappedSeen = goal.mappedSeen;
 
     RequestSteps steps(n);
-    std::vector<MaterialFractions> bestMixture = aim.mixture;
     double bestScore = 0;
     int raisedAt = 0;  // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
@@ -481,7 +478,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         if (iteration == 0 || it.meanDeltaEWide < bestScore - std::max(0.02 * bestScore, 0.02)) {
             bestScore = it.meanDeltaEWide;
             result.bestIteration = iteration;
-            bestMixture = aim.mixture;
+            if (iteration > 0) bestLabels = predictor.labels().withChanges({});
             result.predictedSeen = now.overFootprint;
         }
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
@@ -505,7 +502,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
         }
-        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture, settings.halftone);
+        std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture, settings.halftone,
+                                                                   iteration > 0 ? settings.hysteresis : 0.0f);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -528,7 +526,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
                                                labFromLinearSrgb(result.mappedSeen[i])));
     if (result.bestIteration != result.iterations.back().iteration)
-        restoreBestLabels(predictor, given, owner, result.bestIteration, bestMixture, settings.halftone);
+        restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
         predictor.carryOver().enabled = false;  // independent renders
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;

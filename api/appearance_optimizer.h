@@ -55,6 +55,11 @@ struct OptimizeSettings {
     float shellDepth_mm = 1.0f;
     // How the shell's mixtures become labels (prepare/halftone.h).
     HalftoneMethod halftone = HalftoneMethod::ErrorDiffusion;
+    // By thresholds after the first print: a voxel keeps its material
+    // while that material's share comes within this of its threshold
+    // (prepare/halftone.h), so requests that wander by the predictions'
+    // noise relabel little.
+    float hysteresis = 0.0f;
     // Predictions that carry over (api/predictor.h, CarryOver): one seed
     // for the loop, each prediction adding the settings' spp to the
     // samples its changes did not reach (otherwise a new seed and a

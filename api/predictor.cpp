@@ -28,7 +28,7 @@ struct Predictor::CarriedSamples {
     PathFootprints footprints;
     std::vector<uint32_t> firstSample;  // per voxel: its samples are [firstSample, drawn)
     uint32_t drawn = 0;
-    std::vector<uint8_t> changedBricks;  // relabelled since, by MajorantGrid's brick index
+    LabelChanges changes;  // since they were drawn
 };
 
 Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings, SceneNeeds alsoNeeds)
@@ -68,6 +68,11 @@ RGB Predictor::environment() const { return state_->scene.environment; }
 GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
 namespace {
+bool sameBounds(const MajorantGrid::Bounds& a, const MajorantGrid::Bounds& b) {
+    return a.maxSigmaT == b.maxSigmaT && a.minSigmaT == b.minSigmaT && a.soleLabel == b.soleLabel &&
+           a.solidLabel == b.solidLabel;
+}
+
 void requireMaterial(const MaterialTable& materials, Label label, Label voidLabel) {
     if (!materials.covers(label, voidLabel))
         throw std::invalid_argument("label " + std::to_string(label) + " is not in the material table");
@@ -94,6 +99,7 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     }
     // Grid, lookup tables and majorants: everything that depends on labels.
     const LabelMedium& previous = *state_->scene.medium;
+    const MajorantGrid previousMajorants = carried_ && changed ? previous.majorants() : MajorantGrid();
     if (changed) {  // majorants of the touched bricks only
         state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), previous, *changed);
     } else {
@@ -110,8 +116,12 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     if (sensor || !changed) {
         carried_.reset();
     } else if (carried_) {
-        const MajorantGrid& bricks = state_->scene.medium->majorants();
-        for (const Vec3i& v : *changed) carried_->changedBricks[bricks.brickIndex(MajorantGrid::brickOf(v))] = 1;
+        const MajorantGrid &before = previousMajorants, &after = state_->scene.medium->majorants();
+        for (const Vec3i& v : *changed) {
+            carried_->changes.markRelabelled(after.voxelKey(v));
+            const Vec3i b = MajorantGrid::brickOf(v);
+            if (!sameBounds(before.bounds(b), after.bounds(b))) carried_->changes.markBoundsChanged(after.brickIndex(b));
+        }
     }
     pendingUpdateSeconds_ += secondsSince(t0);
 }
@@ -196,7 +206,7 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
         carried_->film = Film(n);
         carried_->footprints = PathFootprints(n);
         carried_->firstSample.assign(n, 0);
-        carried_->changedBricks.assign(state_->scene.medium->majorants().brickCount(), 0);
+        carried_->changes = LabelChanges(state_->scene.medium->majorants().brickCount());
     }
     CarriedSamples& c = *carried_;
     Film& film = rounds.result().film;
@@ -207,14 +217,14 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
     std::map<uint32_t, std::vector<uint32_t>> retraceFrom;
     const uint32_t retraced = std::min(c.drawn, carryOver_.retraceSamples);
     for (size_t i = 0; i < n; ++i) {
-        if (!c.footprints.meets(i, c.changedBricks)) continue;
+        if (c.changes.empty() || !c.footprints.meets(i, c.changes)) continue;
         ++p.retracedVoxels;
         film.clearPixel(i);
         c.footprints.clear(i);
         c.firstSample[i] = std::max(c.firstSample[i], c.drawn - retraced);
         if (c.firstSample[i] < c.drawn) retraceFrom[c.firstSample[i]].push_back(uint32_t(i));
     }
-    std::fill(c.changedBricks.begin(), c.changedBricks.end(), uint8_t(0));
+    c.changes.clear();
     rounds.result().seconds += secondsSince(t0);
     for (const auto& [first, pixels] : retraceFrom) rounds.render(&pixels, first, c.drawn - first);
     rounds.render(nullptr, c.drawn, rs.spp);
@@ -228,8 +238,11 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
 SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
+    // Footprints hold voxel keys in 32 bits.
+    const bool keysFit = uint64_t(state_->scene.medium->majorants().brickCount()) * MajorantGrid::kBrickVoxels <=
+                         uint64_t(UINT32_MAX) + 1;
     if (carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ && rs.majorants == Majorants::PerBrick &&
-        capabilitiesOf(rs).recordsFootprints) {
+        capabilitiesOf(rs).recordsFootprints && keysFit) {
         SurfacePrediction p;
         p.voxels = surfaceVoxels();
         predictCarryingOver(rs, p);

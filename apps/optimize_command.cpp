@@ -89,6 +89,10 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         os.shellDepth_mm = float(*s);
     }
     os.carryOver = args.has("--carry-over");
+    if (auto x = args.number("--hysteresis")) {
+        if (!(*x >= 0 && *x < 0.5)) throw UsageError("--hysteresis must be in [0, 0.5)");
+        os.hysteresis = float(*x);
+    }
     if (auto h = args.value("--halftone")) {
         const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, *h);
         if (!method) throw UsageError("--halftone must be error-diffusion, thresholds or nearest");
@@ -265,6 +269,9 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--halftone", "error-diffusion|thresholds",
                      "how the shell's mixtures become labels (default error-diffusion; thresholds: a blue-noise "
                      "matrix, where a request that moves little relabels few voxels)"},
+                    {"--hysteresis", "H",
+                     "with --halftone thresholds: a voxel keeps its resin while its share comes within H of its "
+                     "threshold (default 0)"},
                     {"--carry-over", "",
                      "keep the predictions' samples that the label changes cannot reach, adding --spp each iteration "
                      "(one seed; volpath)"},

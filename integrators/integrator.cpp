@@ -11,13 +11,13 @@ void PixelIntegrator::render(const RenderPass& pass, Film& film, PathStats& stat
             renderPixel(pass, film, i, p, medium, tileStats);
             return;
         }
-        // The bricks this pixel's paths read.
-        thread_local std::vector<uint32_t> bricks;
-        bricks.clear();
-        medium.recordBricks(&bricks);
+        // What this pixel's paths read of the labels.
+        thread_local LabelReads reads;
+        reads.clear();
+        medium.recordReads(&reads);
         renderPixel(pass, film, i, p, medium, tileStats);
-        medium.recordBricks(nullptr);
-        pass.footprints->add(p, bricks);
+        medium.recordReads(nullptr);
+        pass.footprints->add(p, reads);
     });
 }
 

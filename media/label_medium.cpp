@@ -53,8 +53,7 @@ LabelMedium::Tracker::~Tracker() = default;
 
 Label LabelMedium::Tracker::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
-    if (recordedBricks_)
-        recordedBricks_->push_back(uint32_t(medium_.majorants_.brickIndex(MajorantGrid::brickOf(v))));
+    if (reads_) reads_->voxels.push_back(medium_.majorants_.voxelKey(v));
     return impl_->accessor.getValue(toCoord(v));
 }
 
@@ -70,15 +69,19 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
         return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
     }
     const MajorantGrid& majorants = medium_.majorants_;
-    if (recordedBricks_) {
+    if (reads_) {
         auto recorded = [&](auto&& visit) {
             return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants,
                                        [&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
-                                           recordedBricks_->push_back(uint32_t(majorants.brickIndexOf(*segment.bounds)));
+                                           reads_->bricks.push_back(uint32_t(majorants.brickIndexOf(*segment.bounds)));
                                            return visit(segment, out);
                                        });
         };
-        return sampleMajorantFlight(cellRay, recorded, events, labelAt, rng);
+        auto recordedLabelAt = [&](const Vec3i& v) PL_ALWAYS_INLINE {
+            reads_->voxels.push_back(majorants.voxelKey(v));
+            return acc.getValue(toCoord(v));
+        };
+        return sampleMajorantFlight(cellRay, recorded, events, recordedLabelAt, rng);
     }
     auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
         return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants, visit);

@@ -25,6 +25,18 @@ enum class Majorants { PerBrick, Global };
 inline constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{
     {{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
 
+// What paths read of the labels: the majorant bricks whose bounds they
+// entered (MajorantGrid::brickIndex) and the voxels whose labels they
+// looked up (MajorantGrid::voxelKey), in any order, with repeats.
+struct LabelReads {
+    std::vector<uint32_t> bricks;
+    std::vector<uint64_t> voxels;
+    void clear() {
+        bricks.clear();
+        voxels.clear();
+    }
+};
+
 class LabelMedium {
 public:
     LabelMedium(LabelGrid grid, MaterialTable materials);
@@ -76,14 +88,14 @@ public:
         // through dense resin (trackers.h).
         float transmittance(const Ray& ray, float tMax_mm, int channel, TransmittanceRoulette roulette = {});
         Label labelAt(const Vec3i& voxel);
-        // Where the tracker's answers came from: from now on, the index
-        // (MajorantGrid::brickIndex) of every brick whose bounds a flight
-        // entered or whose voxel labelAt read is appended to `bricks` (none:
-        // stop). Every label the answers depend on lies in those bricks, so
-        // a path that met no relabelled brick is the same path after the
-        // change. Free flights (per brick) and labelAt only: regular
-        // tracking and the global majorant are not recorded.
-        void recordBricks(std::vector<uint32_t>* bricks) { recordedBricks_ = bricks; }
+        // Where the tracker's answers came from, from now on (none: stop
+        // recording): the bricks whose bounds a free flight entered and
+        // the voxels whose labels it or labelAt read (LabelReads). A path
+        // none of whose bricks changed its bounds and none of whose voxels
+        // was relabelled is the same path after the change. Free flights
+        // against per-brick majorants and labelAt only: regular tracking
+        // and the global majorant are not recorded.
+        void recordReads(LabelReads* reads) { reads_ = reads; }
         // Outward normal of the nearest surface and signed distance (mm) at
         // p, from the surface fields; none outside their band.
         struct NearestSurface {
@@ -101,7 +113,7 @@ public:
         std::unique_ptr<Impl> impl_;
         const LabelMedium& medium_;
         Majorants majorants_;
-        std::vector<uint32_t>* recordedBricks_ = nullptr;
+        LabelReads* reads_ = nullptr;
     };
 
 private:

@@ -84,6 +84,14 @@ public:
         return (size_t(b.z - brickMin_.z) * (brickMax_.y - brickMin_.y) + (b.y - brickMin_.y)) *
                    (brickMax_.x - brickMin_.x) + (b.x - brickMin_.x);
     }
+    // A voxel's key: its brick's index times the brick's voxels plus its
+    // place in the brick (so a set of keys is checked brick by brick).
+    static constexpr int kBrickVoxels = kBrickSize * kBrickSize * kBrickSize;
+    uint64_t voxelKey(const Vec3i& v) const {
+        const uint64_t local = uint64_t(((v.z & (kBrickSize - 1)) << (2 * kBrickLog2)) |
+                                        ((v.y & (kBrickSize - 1)) << kBrickLog2) | (v.x & (kBrickSize - 1)));
+        return uint64_t(brickIndex(brickOf(v))) * kBrickVoxels + local;
+    }
     static Vec3i brickOf(const Vec3i& voxel) {
         return {voxel.x >> kBrickLog2, voxel.y >> kBrickLog2, voxel.z >> kBrickLog2};
     }

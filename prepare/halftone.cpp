@@ -16,9 +16,29 @@ MaterialFractions fractionsForColor(const RGB& linear) {
     return f;
 }
 
+namespace {
+// Material indices (kPrintMaterialLabel's order) from the lightest.
+constexpr int kLightestFirst[kPrintMaterials] = {4, 2, 0, 1, 3};
+}  // namespace
+
+int materialAtThreshold(const MaterialFractions& fractions, float threshold, int current, float hysteresis) {
+    const int wanted = materialAtThreshold(fractions, threshold);
+    if (wanted == current || current < 0 || current >= kPrintMaterials || !(hysteresis > 0)) return wanted;
+    float total = 0;
+    for (float f : fractions) total += std::max(f, 0.0f);
+    if (!(total > 0)) return wanted;
+    // The current material's share [lo, hi) of [0, 1), against the threshold's reach.
+    float lo = 0;
+    for (int m : kLightestFirst) {
+        const float share = std::max(fractions[size_t(m)], 0.0f) / total;
+        if (m == current)
+            return share > 0 && lo < threshold + hysteresis && lo + share > threshold - hysteresis ? current : wanted;
+        lo += share;
+    }
+    return wanted;
+}
+
 int materialAtThreshold(const MaterialFractions& fractions, float threshold) {
-    // Material indices (kPrintMaterialLabel's order) from the lightest.
-    constexpr int kLightestFirst[kPrintMaterials] = {4, 2, 0, 1, 3};
     float total = 0;
     for (float f : fractions) total += std::max(f, 0.0f);
     const float t = threshold * total;
@@ -32,6 +52,12 @@ int materialAtThreshold(const MaterialFractions& fractions, float threshold) {
         if (t < below) return m;
     }
     return last;  // round-off at the top
+}
+
+int printMaterialOf(Label label) {
+    for (int m = 0; m < kPrintMaterials; ++m)
+        if (kPrintMaterialLabel[m] == label) return m;
+    return -1;
 }
 
 int largestFraction(const MaterialFractions& fractions) {

@@ -53,6 +53,14 @@ inline constexpr std::array<EnumName<HalftoneMethod>, 3> kHalftoneMethodNames{
 // the slice. The darkness of a uniform mixture's pattern is a monotone
 // function of the blue-noise matrix, so its grain is blue too.
 int materialAtThreshold(const MaterialFractions& fractions, float threshold);
+// The same with hysteresis, for a voxel that holds material `current`: it
+// keeps it while its share comes within `hysteresis` of the threshold (a
+// request that only wanders by its noise relabels nothing; a loop that
+// sees the print corrects the lag).
+int materialAtThreshold(const MaterialFractions& fractions, float threshold, int current, float hysteresis);
+
+// The material index of a print label, or -1 (not one of the five).
+int printMaterialOf(Label label);
 
 // The material of each voxel that has no neighbours' say: its largest fraction.
 int largestFraction(const MaterialFractions& fractions);

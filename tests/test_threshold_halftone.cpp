@@ -136,5 +136,29 @@ TEST(Halftone, ThresholdsRelabelAsFewVoxelsAsTheMoveSays) {
     EXPECT_GT(double(diffused), 10 * expected) << "error diffusion relabelled " << diffused;
 }
 
+// With hysteresis h a voxel keeps its material while that material's share
+// comes within h of its threshold: a move smaller than h relabels nothing,
+// a move d > h relabels the voxels beyond h of the new boundaries.
+TEST(Halftone, HysteresisKeepsAMaterialWhileItsShareIsNear) {
+    const ThresholdMatrix& m = ThresholdMatrix::forVoxel(kPrinterVoxel_mm);
+    const std::vector<Vec3i> voxels = voxelsOfTile(m.tile());
+    const MaterialFractions before{0.20f, 0.15f, 0.10f, 0.05f, 0.50f};
+    const float h = 0.01f;
+    for (float d : {0.005f, 0.03f}) {
+        MaterialFractions after = before;
+        after[0] += d;  // white to cyan: the two boundaries before cyan's move by d
+        after[4] -= d;
+        size_t relabelled = 0;
+        for (const Vec3i& v : voxels) {
+            const int now = materialAtThreshold(before, m.at(v));
+            relabelled += materialAtThreshold(after, m.at(v), now, h) != now;
+        }
+        const double expected = 2 * std::max(0.0, double(d - h)) * double(voxels.size());
+        EXPECT_NEAR(double(relabelled), expected, 4.0) << "move " << d;
+    }
+    EXPECT_EQ(printMaterialOf(kPrintMaterialLabel[2]), 2);
+    EXPECT_EQ(printMaterialOf(Label(6)), -1);
+}
+
 }  // namespace
 }  // namespace pl
