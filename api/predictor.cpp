@@ -68,9 +68,13 @@ RGB Predictor::environment() const { return state_->scene.environment; }
 GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
 namespace {
-bool sameBounds(const MajorantGrid::Bounds& a, const MajorantGrid::Bounds& b) {
-    return a.maxSigmaT == b.maxSigmaT && a.minSigmaT == b.minSigmaT && a.soleLabel == b.soleLabel &&
-           a.solidLabel == b.solidLabel;
+// Whether a brick's bounds are the same to free flights against per-brick
+// majorants (media/collision_events.h), which read its majorant, its sole
+// label and whether its labels share one sigma_t per channel.
+bool sameBoundsForTrackers(const MajorantGrid::Bounds& a, const MajorantGrid::Bounds& b) {
+    for (int c = 0; c < 3; ++c)
+        if ((a.maxSigmaT[c] == a.minSigmaT[c]) != (b.maxSigmaT[c] == b.minSigmaT[c])) return false;
+    return a.maxSigmaT == b.maxSigmaT && a.soleLabel == b.soleLabel;
 }
 
 void requireMaterial(const MaterialTable& materials, Label label, Label voidLabel) {
@@ -120,7 +124,7 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         for (const Vec3i& v : *changed) {
             carried_->changes.markRelabelled(after.voxelKey(v));
             const Vec3i b = MajorantGrid::brickOf(v);
-            if (!sameBounds(before.bounds(b), after.bounds(b))) carried_->changes.markBoundsChanged(after.brickIndex(b));
+            if (!sameBoundsForTrackers(before.bounds(b), after.bounds(b))) carried_->changes.markBoundsChanged(after.brickIndex(b));
         }
     }
     pendingUpdateSeconds_ += secondsSince(t0);
