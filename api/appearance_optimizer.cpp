@@ -440,7 +440,9 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const uint64_t baseSeed = predictor.settings().seed;
     OptimizeResult result;
     RestoreSettings restore{predictor, predictor.settings(), predictor.carryOver()};
-    predictor.carryOver().enabled = settings.carryOver;
+    predictor.carryOver().enabled = settings.carryOver.has_value();
+    if (settings.carryOver) predictor.carryOver().method = *settings.carryOver;
+    const bool oneSeed = settings.carryOver == CarryOver::Method::KeptSamples;
     // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =
@@ -512,7 +514,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         t0 = Clock::now();
         // A new seed each iteration: the loop must not fit one noise
         // realisation. Carrying over, new samples of the same seed.
-        if (!settings.carryOver) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
+        if (!oneSeed) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
         if (next.switchToMonteCarlo) predictor.settings().integrator = monteCarlo;
         if (next.moreSamples) {
             predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);

@@ -60,11 +60,12 @@ struct OptimizeSettings {
     // (prepare/halftone.h), so requests that wander by the predictions'
     // noise relabel little.
     float hysteresis = 0.0f;
-    // Predictions that carry over (api/predictor.h, CarryOver): one seed
-    // for the loop, each prediction adding the settings' spp to the
-    // samples its changes did not reach (otherwise a new seed and a
-    // prediction afresh each iteration).
-    bool carryOver = false;
+    // Predictions that carry over (api/predictor.h, CarryOver): by kept
+    // samples (one seed for the loop, each prediction adding the settings'
+    // spp to the samples its changes did not reach) or by control
+    // variates (a new seed each iteration, as without). None: a new seed
+    // and a prediction afresh each iteration.
+    std::optional<CarryOver::Method> carryOver;
     float step = 0.8f;  // share of the error one iteration corrects, at the measured gain
     // The error is averaged with a Gaussian of this sigma on the surface, by
     // default the eye's footprint: detail finer than the eye sees is left

@@ -31,6 +31,17 @@ struct Predictor::CarriedSamples {
     LabelChanges changes;  // since they were drawn
 };
 
+// The running estimate a prediction leaves for the next (ControlVariates).
+struct Predictor::RunningEstimate {
+    RenderSettings settings;              // it was drawn with (seed and spp aside)
+    std::vector<RGB> estimate, variance;  // per voxel: X and its variance V
+    // The last prediction's standard errors of its samples' mean and of
+    // their differences' (0 where none read a change).
+    std::vector<RGB> sampleError, differenceError;
+    LabelChanges changes;                     // since the last prediction
+    std::unique_ptr<LabelMedium> previous;    // its labels, once any changed
+};
+
 Predictor::Predictor(const SceneDescription& desc, const RenderSettings& settings, SceneNeeds alsoNeeds)
     : state_(std::make_unique<State>()), settings_(settings) {
     if (desc.sensor.type != "surface_voxels")
@@ -102,31 +113,43 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         }
     }
     // Grid, lookup tables and majorants: everything that depends on labels.
-    const LabelMedium& previous = *state_->scene.medium;
-    const MajorantGrid previousMajorants = carried_ && changed ? previous.majorants() : MajorantGrid();
-    if (changed) {  // majorants of the touched bricks only
-        state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), previous, *changed);
-    } else {
-        auto next = std::make_unique<LabelMedium>(std::move(grid), previous.materials());
-        next->setSurfaceFields(previous.surfaceFields());
-        state_->scene.medium = std::move(next);
+    std::unique_ptr<LabelMedium> previous = std::move(state_->scene.medium);
+    try {
+        if (changed) {  // majorants of the touched bricks only
+            state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), *previous, *changed);
+        } else {
+            auto next = std::make_unique<LabelMedium>(std::move(grid), previous->materials());
+            next->setSurfaceFields(previous->surfaceFields());
+            state_->scene.medium = std::move(next);
+        }
+    } catch (...) {
+        state_->scene.medium = std::move(previous);
+        throw;
     }
-    if (sensor) {
+    const bool shapeChanged = sensor != nullptr;
+    if (shapeChanged) {
         state_->surfaceVoxels = std::move(surface);
         state_->sensor = std::move(sensor);
     }
-    // Kept samples survive a relabelling of voxels alone; their paths are
-    // checked against the relabelled bricks at the next prediction.
-    if (sensor || !changed) {
+    // What carries over survives a relabelling of voxels alone; the paths
+    // are checked against what changed at the next prediction.
+    if (shapeChanged || !changed) {
         carried_.reset();
-    } else if (carried_) {
-        const MajorantGrid &before = previousMajorants, &after = state_->scene.medium->majorants();
+        running_.reset();
+        pendingUpdateSeconds_ += secondsSince(t0);
+        return;
+    }
+    const MajorantGrid &before = previous->majorants(), &after = state_->scene.medium->majorants();
+    for (LabelChanges* marks : {carried_ ? &carried_->changes : nullptr, running_ ? &running_->changes : nullptr}) {
+        if (!marks) continue;
         for (const Vec3i& v : *changed) {
-            carried_->changes.markRelabelled(after.voxelKey(v));
+            marks->markRelabelled(after.voxelKey(v));
             const Vec3i b = MajorantGrid::brickOf(v);
-            if (!sameBoundsForTrackers(before.bounds(b), after.bounds(b))) carried_->changes.markBoundsChanged(after.brickIndex(b));
+            if (!sameBoundsForTrackers(before.bounds(b), after.bounds(b))) marks->markBoundsChanged(after.brickIndex(b));
         }
     }
+    // The running estimate renders the labels of its last prediction too.
+    if (running_ && !running_->previous) running_->previous = std::move(previous);
     pendingUpdateSeconds_ += secondsSince(t0);
 }
 
@@ -198,6 +221,89 @@ void readFilm(const Film& film, const RenderSettings& rs, SurfacePrediction& p) 
 }
 }  // namespace
 
+namespace {
+// The weight w of the running estimate X = w X_before + (1 - w) F + w D
+// (F the new samples' mean, D the mean of their differences f - h), chosen
+// before the samples: the least of w^2 V + ((1 - w) a + w b)^2, the bound
+// of its variance, with a, b the standard errors F and D are expected to
+// have (the last prediction's): w = a (a - b) / (V + (a - b)^2) in [0, 1].
+float controlWeight(double variance, double a, double b) {
+    const double denominator = variance + (a - b) * (a - b);
+    if (!(denominator > 0)) return 1.0f;  // all exact: keep the estimate
+    return float(std::clamp(a * (a - b) / denominator, 0.0, 1.0));
+}
+}  // namespace
+
+void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePrediction& p) {
+    const Sensor& sensor = *state_->sensor;
+    const size_t n = sensor.pixelCount();
+    const auto t0 = std::chrono::steady_clock::now();
+    RenderRounds rounds(state_->scene, sensor, rs, false, true, controlMeans_);
+    RenderSettings seedAside = rs;
+    if (running_) seedAside.seed = running_->settings.seed;
+    p.startedAfresh = !running_ || !sameButSpp(running_->settings, seedAside);
+    Film& film = rounds.result().film;
+    if (p.startedAfresh) {
+        rounds.render(nullptr, 0, rs.spp);
+        running_ = std::make_unique<RunningEstimate>();
+        RunningEstimate& r = *running_;
+        r.settings = rs;
+        r.changes = LabelChanges(state_->scene.medium->majorants().brickCount());
+        readFilm(film, rs, p);
+        r.estimate = p.radiance;
+        r.variance.resize(n);
+        r.sampleError = p.standardError;
+        r.differenceError.assign(n, RGB{0, 0, 0});
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) r.variance[i][c] = p.standardError[i][c] * p.standardError[i][c];
+        p.renderSeconds = rounds.result().seconds;
+        p.stats = rounds.stats();
+        return;
+    }
+    RunningEstimate& r = *running_;
+    // The last prediction's errors stand for this one's (per sample: the
+    // sample counts may differ).
+    const double perSample = std::sqrt(double(r.settings.spp) / double(rs.spp));
+    std::vector<RGB> weight(n, RGB{0, 0, 0});
+    for (size_t i = 0; i < n; ++i)
+        for (int c : rs.channels)
+            weight[i][c] = controlWeight(r.variance[i][c], perSample * r.sampleError[i][c],
+                                         perSample * r.differenceError[i][c]);
+    Film differences(n);
+    std::vector<uint32_t> tracedTwice(n, 0);
+    // No change since: the previous labels are the current ones.
+    const CoupledSampling coupled{r.previous ? r.previous.get() : state_->scene.medium.get(), &r.changes,
+                                  &differences, &tracedTwice};
+    rounds.result().seconds += secondsSince(t0);
+    rounds.renderPairs(&coupled);
+    rounds.render(nullptr, 0, rs.spp);
+    const auto t1 = std::chrono::steady_clock::now();
+    differences.poolErrors(&sensor);
+    // X = w X_before + (1 - w) F + w D; its variance at most
+    // w^2 V_before + ((1 - w) se_F + w se_D)^2 (F and D drawn together).
+    p.radiance.resize(n);
+    p.standardError.resize(n);
+    p.samples.assign(n, rs.spp);
+    for (size_t i = 0; i < n; ++i) {
+        p.retracedVoxels += tracedTwice[i] > 0;
+        for (int c : rs.channels) {
+            const double w = weight[i][c], seF = film.standardError(i, c), seD = differences.standardError(i, c);
+            r.estimate[i][c] = float(w * r.estimate[i][c] + (1 - w) * film.mean(i, c) + w * differences.mean(i, c));
+            const double spread = (1 - w) * seF + w * seD;
+            r.variance[i][c] = float(w * w * r.variance[i][c] + spread * spread);
+            r.sampleError[i][c] = float(seF);
+            r.differenceError[i][c] = float(seD);
+        }
+        p.radiance[i] = r.estimate[i];
+        for (int c = 0; c < 3; ++c) p.standardError[i][c] = std::sqrt(r.variance[i][c]);
+    }
+    r.changes.clear();
+    r.previous.reset();
+    r.settings = rs;
+    p.renderSeconds = rounds.result().seconds + secondsSince(t1);
+    p.stats = rounds.stats();
+}
+
 void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction& p) {
     const Sensor& sensor = *state_->sensor;
     const size_t n = sensor.pixelCount();
@@ -245,16 +351,25 @@ SurfacePrediction Predictor::predict() {
     // Footprints hold voxel keys in 32 bits.
     const bool keysFit = uint64_t(state_->scene.medium->majorants().brickCount()) * MajorantGrid::kBrickVoxels <=
                          uint64_t(UINT32_MAX) + 1;
-    if (carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ && rs.majorants == Majorants::PerBrick &&
-        capabilitiesOf(rs).recordsFootprints && keysFit) {
+    const bool carries = carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ &&
+                         rs.majorants == Majorants::PerBrick && capabilitiesOf(rs).recordsFootprints && keysFit;
+    const bool byControlVariates = carries && carryOver_.method == CarryOver::Method::ControlVariates;
+    if (carries && (!byControlVariates || !rendersChannelsInOnePass(rs))) {
         SurfacePrediction p;
         p.voxels = surfaceVoxels();
-        predictCarryingOver(rs, p);
+        if (byControlVariates) {
+            carried_.reset();
+            predictByControlVariates(rs, p);
+        } else {
+            running_.reset();
+            predictCarryingOver(rs, p);
+        }
         p.updateSeconds = pendingUpdateSeconds_;
         pendingUpdateSeconds_ = 0;
         return p;
     }
     carried_.reset();
+    running_.reset();
     const Sensor& sensor = *state_->sensor;
     // One integrator for all rounds: its census and means are made once.
     // Across ranks each renders its share of a round's pixels and every

@@ -46,21 +46,38 @@ struct AdaptiveSampling {
     double maxSeconds = 0;  // 0: none; a time budget makes results depend on the machine
 };
 
-// Predictions that carry over: the samples of earlier predictions are kept
-// while the labels their paths read stay as they were. Each prediction
-// adds settings().spp samples per voxel, the next sample indices of the
-// same seed; a voxel whose paths met a relabelled brick (PathFootprints)
-// has its kept samples traced again with the same random numbers, so
-// every voxel holds the bits of a render of its samples in one go. Of a
-// touched voxel's kept samples at most the last retraceSamples are traced
-// again, the older ones dropped (by index, whatever their paths did: the
-// estimate stays unbiased). It needs an estimator that records footprints
-// (volpath), per-brick majorants, one process and no adaptive sampling
-// (otherwise every prediction starts afresh), and starts afresh after
-// setLabels, a change of shape, or a change of any setting but spp.
+// Predictions that carry over (docs/api.md), by one of two methods:
+//  - KeptSamples: the samples of earlier predictions are kept while what
+//    their paths read of the labels stays as it was. Each prediction adds
+//    settings().spp samples per voxel, the next sample indices of the same
+//    seed; a voxel whose paths read a change (PathFootprints) has its kept
+//    samples traced again with the same random numbers, so every voxel
+//    holds the bits of a render of its samples in one go. Of a touched
+//    voxel's kept samples at most the last retraceSamples are traced again,
+//    the older ones dropped (by index, whatever their paths did: the
+//    estimate stays unbiased).
+//  - ControlVariates: a running estimate by recursive control variates
+//    (Nicolet et al. 2023). Each prediction draws settings().spp new
+//    samples (the seed as the caller sets it) and traces each with the
+//    current labels and, only if it read a change, with the labels of the
+//    last prediction, with the same random numbers (integrators/
+//    coupled_samples.h); per voxel and channel X = w X_before + (1 - w) F
+//    + w D, F the samples' mean and D their differences', with variance at
+//    most w^2 V_before + ((1 - w) se_F + w se_D)^2 (both errors pooled by
+//    the film); w is chosen before the samples, from the last prediction's
+//    errors, as that bound's minimum, so the estimate stays unbiased and
+//    its error covers the weights.
+// Both need an estimator that records footprints (volpath), per-brick
+// majorants, one process and no adaptive sampling; ControlVariates also
+// single-channel passes (channel sampling "separate"). Otherwise every
+// prediction starts afresh, as after setLabels, a change of shape, or a
+// change of any setting but spp (KeptSamples) or spp and seed
+// (ControlVariates).
 struct CarryOver {
+    enum class Method { KeptSamples, ControlVariates };
     bool enabled = false;
-    uint32_t retraceSamples = 1u << 30;
+    Method method = Method::KeptSamples;
+    uint32_t retraceSamples = 1u << 30;  // KeptSamples
 };
 
 class Predictor {
@@ -109,6 +126,7 @@ private:
     void install(LabelGrid grid, bool occupancyChanged, const std::vector<Vec3i>* changed);
     // predict() with the samples carried over (CarryOver), into p.
     void predictCarryingOver(const RenderSettings& rs, SurfacePrediction& p);
+    void predictByControlVariates(const RenderSettings& rs, SurfacePrediction& p);
 
     struct State;
     std::unique_ptr<State> state_;
@@ -117,6 +135,8 @@ private:
     CarryOver carryOver_;
     struct CarriedSamples;
     std::unique_ptr<CarriedSamples> carried_;  // what the last prediction left; none: start afresh
+    struct RunningEstimate;
+    std::unique_ptr<RunningEstimate> running_;  // the same, for ControlVariates
     bool acrossRanks_ = false;
     double pendingUpdateSeconds_ = 0;
     // printpt's Monte Carlo control means, kept across iterations (they

@@ -88,7 +88,11 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
         os.shellDepth_mm = float(*s);
     }
-    os.carryOver = args.has("--carry-over");
+    if (auto method = args.value("--carry-over")) {
+        if (*method == "kept") os.carryOver = CarryOver::Method::KeptSamples;
+        else if (*method == "control-variates") os.carryOver = CarryOver::Method::ControlVariates;
+        else throw UsageError("--carry-over must be kept or control-variates");
+    }
     if (auto x = args.number("--hysteresis")) {
         if (!(*x >= 0 && *x < 0.5)) throw UsageError("--hysteresis must be in [0, 0.5)");
         os.hysteresis = float(*x);
@@ -272,9 +276,9 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--hysteresis", "H",
                      "with --halftone thresholds: a voxel keeps its resin while its share comes within H of its "
                      "threshold (default 0)"},
-                    {"--carry-over", "",
-                     "keep the predictions' samples that the label changes cannot reach, adding --spp each iteration "
-                     "(one seed; volpath)"},
+                    {"--carry-over", "kept|control-variates",
+                     "predictions that carry over (volpath): keep the samples the label changes cannot reach, adding "
+                     "--spp each iteration, or a running estimate by control variates (docs/api.md)"},
                     kThreadsOption,
                     integratorOption(),
                     {"--predictor", "NAME|auto",

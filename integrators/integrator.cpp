@@ -5,6 +5,23 @@
 namespace pl {
 
 void PixelIntegrator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
+    if (pass.coupled) {
+        // A tracker of the previous labels per tile, beside the current's.
+        std::mutex statsMutex;
+        parallelForTiles(pass.share.size(pass.sensor.pixelCount()), 64, [&](size_t begin, size_t end) {
+            LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
+            LabelMedium::Tracker before(*pass.coupled->previous, pass.majorants);
+            PathStats tileStats;
+            for (size_t i = begin; i < end; ++i) {
+                if (interruptRequested()) return;
+                renderPixelPairs(pass, film, i, pass.share.pixel(i), medium, before, tileStats);
+            }
+            progress.advance((end - begin) * pass.count);
+            std::lock_guard<std::mutex> lock(statsMutex);
+            stats += tileStats;
+        });
+        return;
+    }
     renderPixelTiles(pass, stats, progress, pass.count, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
         const size_t p = pass.share.pixel(i);
         if (!pass.footprints) {
@@ -52,6 +69,33 @@ void PixelIntegrator::renderPixel(const RenderPass& pass, Film& film, size_t i, 
             group[0] = group[1] = group[2] = 0;
             inGroup = 0;
         }
+    }
+}
+
+void PixelIntegrator::renderPixelPairs(const RenderPass& pass, Film& film, size_t i, size_t p,
+                                       LabelMedium::Tracker& medium, LabelMedium::Tracker& before,
+                                       PathStats& tileStats) const {
+    const CoupledSampling& coupled = *pass.coupled;
+    const int c = pass.channel;  // single-channel passes only
+    thread_local LabelReads reads;
+    for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
+        if (interruptRequested()) return;
+        Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(c));
+        const float u0 = rng.uniform(), u1 = rng.uniform();
+        const Ray ray = pass.sensor.generateRay(p, u0, u1);
+        Rng rngBefore = rng;
+        reads.clear();
+        medium.recordReads(&reads);
+        const ChannelSample f = Li(ray, c, medium, rng, tileStats);
+        medium.recordReads(nullptr);
+        film.add(pass.share.filmPixel(i), c, f);
+        // The same path under the previous labels, unless it read nothing that changed.
+        ChannelSample difference;
+        if (coupled.changes->metBy(reads)) {
+            difference.value = f.value - Li(ray, c, before, rngBefore, tileStats).value;
+            (*coupled.tracedTwice)[p] += 1;
+        }
+        coupled.differences->add(pass.share.filmPixel(i), c, difference);
     }
 }
 

@@ -15,6 +15,7 @@
 #include "core/path_stats.h"
 #include "core/rng.h"
 #include "integrators/channel_paths.h"
+#include "integrators/coupled_samples.h"
 #include "integrators/path_footprints.h"
 #include "runtime/pixel_share.h"
 #include "runtime/interrupt.h"
@@ -135,6 +136,9 @@ struct RenderPass {
     // Where each pixel's paths went is added here, if wanted (estimators
     // whose capabilities say recordsFootprints).
     PathFootprints* footprints = nullptr;
+    // Pairs of samples with the previous labels, if wanted (single-channel
+    // passes of estimators that record footprints).
+    const CoupledSampling* coupled = nullptr;
 };
 
 // An estimator: it renders passes, each in the way it needs (one camera
@@ -201,6 +205,9 @@ private:
     // The pass's samples of pixel p (position i of the share), in order.
     void renderPixel(const RenderPass& pass, Film& film, size_t i, size_t p, LabelMedium::Tracker& medium,
                      PathStats& tileStats) const;
+    // The same in pairs (RenderPass::coupled): previous labels through `before`.
+    void renderPixelPairs(const RenderPass& pass, Film& film, size_t i, size_t p, LabelMedium::Tracker& medium,
+                          LabelMedium::Tracker& before, PathStats& tileStats) const;
 };
 
 // The refusal of an estimator that traces no re-entry, for a scene that

@@ -34,6 +34,15 @@ public:
         return m != kNone && ((masks_[m][bit / 64] >> (bit % 64)) & 1u);
     }
     bool empty() const { return masks_.empty() && !anyBounds_; }
+    // Whether a path that read `reads` read anything that changed.
+    bool metBy(const LabelReads& reads) const {
+        if (empty()) return false;
+        for (uint32_t b : reads.bricks)
+            if (boundsChanged(b)) return true;
+        for (uint64_t v : reads.voxels)
+            if (relabelled(v)) return true;
+        return false;
+    }
     // Nothing changed (samples drawn from now on).
     void clear();
 

@@ -58,7 +58,8 @@ void RenderRounds::render(const std::vector<uint32_t>* pixels, uint32_t first, u
             if (rankOfPixel(p, Distributed::ranks()) == Distributed::rank()) share.pixels.push_back(p);
     }
     runOnEveryRank(
-        [&] { renderSamples(*integrator_, scene_, sensor_, settings_, share, first, count, result_, false, footprints_); },
+        [&] { renderSamples(*integrator_, scene_, sensor_, settings_, share, first, count, result_, false, footprints_,
+                                 coupled_); },
         share_.acrossRanks);
     stats_ = gatherShares(result_, share, sensor_);
     if (share_.acrossRanks && filmOnEveryRank_) broadcastFromRankZero(result_.film, stats_);

@@ -47,6 +47,8 @@ public:
     // Where each pixel's paths go in the rounds from now on is added here
     // (in one process; the estimator must record footprints).
     void recordFootprints(PathFootprints* footprints) { footprints_ = footprints; }
+    // The rounds from now on render pairs of samples (CoupledSampling).
+    void renderPairs(const CoupledSampling* coupled) { coupled_ = coupled; }
     RenderResult& result() { return result_; }
     // The statistics over the ranks (the result's are this rank's own).
     const PathStats& stats() const { return stats_; }
@@ -62,6 +64,7 @@ private:
     RenderResult result_;
     PathStats stats_;
     PathFootprints* footprints_ = nullptr;
+    const CoupledSampling* coupled_ = nullptr;
 };
 
 struct ProgressiveRender {

@@ -32,7 +32,8 @@ std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sen
 
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
-                   RenderResult& result, bool lastSamples, PathFootprints* footprints) {
+                   RenderResult& result, bool lastSamples, PathFootprints* footprints,
+                   const CoupledSampling* coupled) {
     // A deterministic estimator's samples are all the same: one says all.
     if (capabilitiesOf(settings).deterministic) {
         if (firstSample > 0) return;
@@ -47,7 +48,7 @@ void renderSamples(const Integrator& integrator, const Scene& scene, const Senso
         for (int c = 0; c < kChannels; ++c)
             if (channel < 0 || c == channel) result.film.openChannel(c);
         const RenderPass pass{scene,   sensor,        share,          firstSample, count,
-                              channel, settings.seed, settings.majorants, settings.channelSampling, footprints};
+                              channel, settings.seed, settings.majorants, settings.channelSampling, footprints, coupled};
         integrator.render(pass, result.film, result.stats, progress);
         if (channel >= 0)
             result.passSeconds[channel] +=

@@ -59,7 +59,8 @@ bool rendersChannelsInOnePass(const RenderSettings& settings);
 // whose capabilities say recordsFootprints).
 void renderSamples(const Integrator& integrator, const Scene& scene, const Sensor& sensor,
                    const RenderSettings& settings, const PixelShare& share, uint32_t firstSample, uint32_t count,
-                   RenderResult& result, bool lastSamples = false, PathFootprints* footprints = nullptr);
+                   RenderResult& result, bool lastSamples = false, PathFootprints* footprints = nullptr,
+                   const CoupledSampling* coupled = nullptr);
 
 // A share across MPI ranks: rank 0's film receives every rank's pixels
 // (and pools the errors over them all, with the sensor's neighbourhoods;
