@@ -252,8 +252,12 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
         readFilm(film, rs, p);
         r.estimate = p.radiance;
         r.variance.resize(n);
+        // Until the first pairs say otherwise, the differences are taken
+        // as two independent renders' (w = 0: the next prediction afresh).
         r.sampleError = p.standardError;
-        r.differenceError.assign(n, RGB{0, 0, 0});
+        r.differenceError.resize(n);
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 3; ++c) r.differenceError[i][c] = std::sqrt(2.0f) * p.standardError[i][c];
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 3; ++c) r.variance[i][c] = p.standardError[i][c] * p.standardError[i][c];
         p.renderSeconds = rounds.result().seconds;

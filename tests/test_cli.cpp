@@ -1071,6 +1071,39 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     EXPECT_NE(noGamut.err.find("none.json"), std::string::npos) << noGamut.err;
 }
 
+// Halftoning by thresholds and predictions that carry over, end to end:
+// each method runs the loop, the CSV says how many surface voxels each
+// iteration traced again, and unknown names are usage errors.
+TEST(Cli, OptimizeByThresholdsWithPredictionsThatCarryOver) {
+    TestScene s("optimize_carry_over");
+    for (const char* method : {"kept", "control-variates"}) {
+        fs::path prefix = s.dir / "out" / method;
+        CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
+                                  " --target 0.2,0.45,0.8 --iterations 3 --spp 3 --judge-spp 2 --halftone thresholds "
+                                  "--hysteresis 0.01 --carry-over " + method + " -o " + prefix.string(),
+                              s.dir);
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const auto rows = readCsvNumbers(prefix.string() + ".csv");
+        ASSERT_GE(rows.size(), 3u) << method;
+        EXPECT_GT(rows[0][1], 20.0) << method;
+        EXPECT_LT(rows[1][1], 0.5 * rows[0][1]) << method << r.out;
+        EXPECT_EQ(rows[0][12], 0.0) << method;  // the first prediction starts afresh
+        EXPECT_GT(rows[1][12], 0.0) << method;  // the first print reaches every voxel
+        // Kept samples accumulate: 3 more each iteration.
+        if (std::string(method) == "kept") {
+            EXPECT_EQ(rows[1][13], 6.0) << r.out;
+        } else {
+            EXPECT_EQ(rows[1][13], 3.0) << r.out;
+        }
+    }
+    for (const char* bad : {" --carry-over sometimes", " --halftone dots", " --hysteresis 0.7"}) {
+        CliRun r = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8" + bad, s.dir);
+        EXPECT_EQ(r.exitCode, 2) << bad << r.err;
+        EXPECT_NE(r.err.find(std::string(bad).substr(1, std::string(bad).find(' ', 1) - 1)), std::string::npos)
+            << r.err;
+    }
+}
+
 // The fast predictor first, then Monte Carlo, and the final labels judged
 // apart: a blue the shell can print is far closer than the white it
 // started from, as the judge sees it too, per voxel and over the eye's
