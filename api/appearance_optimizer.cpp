@@ -508,6 +508,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
                                                                    iteration > 0 ? settings.hysteresis : 0.0f);
         predictor.changeLabels(changes);
         it.changedVoxels = changes.size();
+        if (settings.recordChanges) result.changes.push_back(std::move(changes));
         it.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         result.iterations.push_back(it);
         if (onIteration) onIteration(it);

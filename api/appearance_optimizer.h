@@ -66,6 +66,8 @@ struct OptimizeSettings {
     // variates (a new seed each iteration, as without). None: a new seed
     // and a prediction afresh each iteration.
     std::optional<CarryOver::Method> carryOver;
+    // Keep each iteration's label changes (OptimizeResult::changes).
+    bool recordChanges = false;
     float step = 0.8f;  // share of the error one iteration corrects, at the measured gain
     // The error is averaged with a Gaussian of this sigma on the surface, by
     // default the eye's footprint: detail finer than the eye sees is left
@@ -150,6 +152,9 @@ struct OptimizeResult {
     std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
     std::vector<float> deltaESeen;
     std::optional<OptimizeJudgement> judgement;  // with judge
+    // With recordChanges: the changes after each prediction but the last,
+    // in order (bench --loop replays them).
+    std::vector<std::vector<LabelGrid::Change>> changes;
 };
 
 // targets: per surface voxel in the predictor's order. The predictor ends

@@ -361,12 +361,18 @@ SurfacePrediction Predictor::predict() {
     if (carries && (!byControlVariates || !rendersChannelsInOnePass(rs))) {
         SurfacePrediction p;
         p.voxels = surfaceVoxels();
-        if (byControlVariates) {
+        try {
+            if (byControlVariates) {
+                carried_.reset();
+                predictByControlVariates(rs, p);
+            } else {
+                running_.reset();
+                predictCarryingOver(rs, p);
+            }
+        } catch (...) {  // interrupted: what was half rendered does not carry over
             carried_.reset();
-            predictByControlVariates(rs, p);
-        } else {
             running_.reset();
-            predictCarryingOver(rs, p);
+            throw;
         }
         p.updateSeconds = pendingUpdateSeconds_;
         pendingUpdateSeconds_ = 0;

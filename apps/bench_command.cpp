@@ -31,6 +31,7 @@
 
 #include "apps/arguments.h"
 #include "apps/bench_error_check.h"
+#include "apps/bench_loop.h"
 #include "apps/command_options.h"
 #include "runtime/distributed.h"
 #include "apps/limit_walk.h"
@@ -685,7 +686,11 @@ int benchCommand(const std::vector<std::string>& argv) {
                     {"--out", "PREFIX", "tables and plot: PREFIX.md, .csv, .svg (default bench)"},
                     {"--target-relative-error", "E", "the time to that median per-pixel relative error (default 0.02)"},
                     kThreadsOption,
-                    {"--limit", "", "the limit walk (a lookup-free walk in an infinite medium) alone"}});
+                    {"--limit", "", "the limit walk (a lookup-free walk in an infinite medium) alone"},
+                    {"--loop", "CHANGES",
+                     "the optimisation loop's predictions on recorded label changes (optimize --record-changes): "
+                     "noise over the footprint and seconds per iteration"},
+                    {"--carry-over", "none,kept,control-variates", "with --loop: the ways of predicting (default all)"}});
     ThreadLimit threads(args);
     if (args.has("--limit") && args.positional().empty()) {
         const LimitWalkRate limit = measureLimitWalk(threads.count);
@@ -696,6 +701,25 @@ int benchCommand(const std::vector<std::string>& argv) {
     }
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json (or --limit alone)");
     SceneDescription desc = parseScene(args.positional()[0]);
+    if (auto file = args.value("--loop")) {
+        const LabelChangeHistory changes = readLabelChanges(*file);
+        std::vector<std::string> methods = splitList(args.value("--carry-over").value_or("none,kept,control-variates"));
+        for (const std::string& m : methods)
+            if (m != "none" && m != "kept" && m != "control-variates")
+                throw UsageError("--carry-over takes none, kept and control-variates");
+        RenderSettings loop = desc.render;
+        loop.channels = {0, 1, 2};
+        loop.reentry = false;
+        loop.spp = uint32_t(args.integer("--spp", 1, RenderSettings::kMostSpp).value_or(2));
+        if (auto name = args.value("--integrator")) chooseIntegrator(loop, *name, "--integrator");
+        const std::string md = loopTable(desc, loop, changes, methods,
+                                         uint64_t(args.integer("--seed", 0, INT64_MAX - 1).value_or(1)));
+        const std::string out = args.value("--out").value_or("bench") + "_loop.md";
+        refuseToOverwriteInputs(out, desc.inputFiles());
+        writeTextFile(out, md);
+        std::fputs(md.c_str(), stdout);
+        return 0;
+    }
     RenderSettings base = desc.render;
     base.channels = {0, 1, 2};
     base.reentry = false;  // surface prediction: the estimators must agree

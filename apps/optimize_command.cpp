@@ -21,6 +21,7 @@
 #include "runtime/progress.h"
 #include "io/grid_io.h"
 #include "io/html_report.h"
+#include "io/label_changes_io.h"
 #include "core/input_error.h"
 #include "io/mesh_io.h"
 #include "io/mesh_repair.h"
@@ -88,6 +89,7 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         if (!(*s >= 0 && *s <= 100)) throw UsageError("--shell-mm must be in [0, 100]");
         os.shellDepth_mm = float(*s);
     }
+    os.recordChanges = args.has("--record-changes");
     if (auto method = args.value("--carry-over")) {
         if (*method == "kept") os.carryOver = CarryOver::Method::KeptSamples;
         else if (*method == "control-variates") os.carryOver = CarryOver::Method::ControlVariates;
@@ -273,6 +275,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--halftone", "error-diffusion|thresholds",
                      "how the shell's mixtures become labels (default error-diffusion; thresholds: a blue-noise "
                      "matrix, where a request that moves little relabels few voxels)"},
+                    {"--record-changes", "FILE",
+                     "write each iteration's label changes to FILE (bench --loop replays them)"},
                     {"--hysteresis", "H",
                      "with --halftone thresholds: a voxel keeps its resin while its share comes within H of its "
                      "threshold (default 0)"},
@@ -314,6 +318,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (auto file = args.value("--gamut"); file && !std::filesystem::exists(*file))
         throw InputError(*file, "no such file (the printer's characterisation, --gamut)");
     for (const auto& file : out.files()) refuseToOverwriteInputs(file, inputs);
+    if (auto file = args.value("--record-changes")) refuseToOverwriteInputs(*file, inputs);
     // Settings before the predictor loads: what it loads depends on the
     // integrator (printpt needs the surface clearance).
     const RenderSettings judge = choosePredictors(args, predictorName, desc.render, os);
@@ -360,6 +365,10 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     if (!speaks) return 0;
     printOutcome(result, os);
     out.write(result, csv.str(), predictor, desc);
+    if (auto file = args.value("--record-changes")) {
+        writeLabelChanges(*file, result.changes);
+        std::printf("wrote %s (the label changes of %zu iterations)\n", file->c_str(), result.changes.size());
+    }
     return 0;
 }
 

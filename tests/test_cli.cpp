@@ -1073,14 +1073,17 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
 
 // Halftoning by thresholds and predictions that carry over, end to end:
 // each method runs the loop, the CSV says how many surface voxels each
-// iteration traced again, and unknown names are usage errors.
+// iteration traced again, and unknown names are usage errors; the loop's
+// label changes, recorded, are replayed by bench --loop.
 TEST(Cli, OptimizeByThresholdsWithPredictionsThatCarryOver) {
     TestScene s("optimize_carry_over");
+    const fs::path changes = s.dir / "out" / "changes.bin";
     for (const char* method : {"kept", "control-variates"}) {
         fs::path prefix = s.dir / "out" / method;
         CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
                                   " --target 0.2,0.45,0.8 --iterations 3 --spp 3 --judge-spp 2 --halftone thresholds "
-                                  "--hysteresis 0.01 --carry-over " + method + " -o " + prefix.string(),
+                                  "--hysteresis 0.01 --carry-over " + method + " --record-changes " +
+                                  changes.string() + " -o " + prefix.string(),
                               s.dir);
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const auto rows = readCsvNumbers(prefix.string() + ".csv");
@@ -1096,6 +1099,18 @@ TEST(Cli, OptimizeByThresholdsWithPredictionsThatCarryOver) {
             EXPECT_EQ(rows[1][13], 3.0) << r.out;
         }
     }
+    // The recorded changes replayed: a row per prediction (3 iterations: 4).
+    CliRun loop = printlight("bench " + s.write().string() + " --loop " + changes.string() +
+                                 " --carry-over none,control-variates --spp 2 --out " + (s.dir / "out" / "b").string(),
+                             s.dir);
+    ASSERT_EQ(loop.exitCode, 0) << loop.err;
+    EXPECT_NE(loop.out.find("| iteration | none | control-variates |"), std::string::npos) << loop.out;
+    EXPECT_NE(loop.out.find("\n| 3 | "), std::string::npos) << loop.out;
+    EXPECT_TRUE(fs::exists(s.dir / "out" / "b_loop.md"));
+    std::ofstream(s.dir / "out" / "junk.bin") << "not changes";
+    CliRun junk = printlight("bench " + s.write().string() + " --loop " + (s.dir / "out" / "junk.bin").string(), s.dir);
+    EXPECT_EQ(junk.exitCode, 1) << junk.err;
+    EXPECT_NE(junk.err.find("junk.bin"), std::string::npos) << junk.err;
     for (const char* bad : {" --carry-over sometimes", " --halftone dots", " --hysteresis 0.7"}) {
         CliRun r = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8" + bad, s.dir);
         EXPECT_EQ(r.exitCode, 2) << bad << r.err;
