@@ -74,13 +74,13 @@ std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const Voxe
     const LabelReader label(labels);
     std::vector<LabelGrid::Change> changes;
     if (method != HalftoneMethod::ErrorDiffusion) {
-        const ThresholdMatrix& thresholds = ThresholdMatrix::forVoxel(frame.voxelSize_mm);
+        const ThresholdMatrix* thresholds =
+            method == HalftoneMethod::Thresholds ? &ThresholdMatrix::forVoxel(frame.voxelSize_mm) : nullptr;
         owner.forEachSet([&](const Vec3i& v, int32_t o) {
             const MaterialFractions& f = mixtures[size_t(o)];
             const Label now = label.at(v);
-            const int m = method == HalftoneMethod::Thresholds
-                              ? materialAtThreshold(f, thresholds.at(v), printMaterialOf(now), hysteresis)
-                              : largestFraction(f);
+            const int m = thresholds ? materialAtThreshold(f, thresholds->at(v), printMaterialOf(now), hysteresis)
+                                     : largestFraction(f);
             if (kPrintMaterialLabel[m] != now) changes.push_back({v, kPrintMaterialLabel[m]});
         });
         return changes;
@@ -442,7 +442,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     RestoreSettings restore{predictor, predictor.settings(), predictor.carryOver()};
     predictor.carryOver().enabled = settings.carryOver.has_value();
     if (settings.carryOver) predictor.carryOver().method = *settings.carryOver;
-    const bool oneSeed = settings.carryOver == CarryOver::Method::KeptSamples;
+    // Kept samples need one seed, if they are kept at all.
+    const bool oneSeed = settings.carryOver == CarryOver::Method::KeptSamples && predictor.carriesOver();
     // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =

@@ -106,8 +106,9 @@ struct OptimizeIteration {
     double meanDeltaEPerVoxel = 0, p95DeltaEPerVoxel = 0;  // the same per voxel (noise included)
     double seconds = 0;       // prediction plus update
     size_t changedVoxels = 0;
-    // Carrying over: the surface voxels whose kept samples this
-    // iteration's prediction traced again, and the mean samples a voxel held.
+    // Carrying over: the surface voxels some of whose samples this
+    // iteration's prediction traced again (Predictor::carryOver), and the
+    // mean samples a voxel held.
     size_t retracedVoxels = 0;
     double meanSamples = 0;
     // Share of the surface voxels whose request, after this prediction,

@@ -35,8 +35,8 @@ struct Predictor::CarriedSamples {
 struct Predictor::RunningEstimate {
     RenderSettings settings;              // it was drawn with (seed and spp aside)
     std::vector<RGB> estimate, variance;  // per voxel: X and its variance V
-    // The last prediction's standard errors of its samples' mean and of
-    // their differences' (0 where none read a change).
+    // The last prediction's standard errors (as the film pooled them) of
+    // its samples' mean and of their differences'.
     std::vector<RGB> sampleError, differenceError;
     LabelChanges changes;                     // since the last prediction
     std::unique_ptr<LabelMedium> previous;    // its labels, once any changed
@@ -229,7 +229,7 @@ namespace {
 // have (the last prediction's): w = a (a - b) / (V + (a - b)^2) in [0, 1].
 float controlWeight(double variance, double a, double b) {
     const double denominator = variance + (a - b) * (a - b);
-    if (!(denominator > 0)) return 1.0f;  // all exact: keep the estimate
+    if (!(denominator > 0)) return 0.0f;  // no spread seen at all: the new samples alone
     return float(std::clamp(a * (a - b) / denominator, 0.0, 1.0));
 }
 }  // namespace
@@ -239,9 +239,10 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
     const size_t n = sensor.pixelCount();
     const auto t0 = std::chrono::steady_clock::now();
     RenderRounds rounds(state_->scene, sensor, rs, false, true, controlMeans_);
+    // The same seed again would draw the same samples: not new evidence.
     RenderSettings seedAside = rs;
     if (running_) seedAside.seed = running_->settings.seed;
-    p.startedAfresh = !running_ || !sameButSpp(running_->settings, seedAside);
+    p.startedAfresh = !running_ || rs.seed == running_->settings.seed || !sameButSpp(running_->settings, seedAside);
     Film& film = rounds.result().film;
     if (p.startedAfresh) {
         rounds.render(nullptr, 0, rs.spp);
@@ -326,8 +327,8 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
     Film& film = rounds.result().film;
     film = std::move(c.film);
     rounds.recordFootprints(&c.footprints);
-    // The voxels whose paths met a relabelled brick: their last
-    // retraceSamples kept samples traced again, grouped by first sample.
+    // The voxels whose paths read a change: their last retraceSamples
+    // kept samples traced again, grouped by first sample.
     std::map<uint32_t, std::vector<uint32_t>> retraceFrom;
     const uint32_t retraced = std::min(c.drawn, carryOver_.retraceSamples);
     for (size_t i = 0; i < n; ++i) {
@@ -349,16 +350,20 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
     c.film = std::move(film);
 }
 
+bool Predictor::carriesOver() const {
+    // Footprints hold voxel keys in 32 bits; one pass per channel keeps
+    // each sample's path whole (hero channels go to the film in groups).
+    const bool keysFit = uint64_t(state_->scene.medium->majorants().brickCount()) * MajorantGrid::kBrickVoxels <=
+                         uint64_t(UINT32_MAX) + 1;
+    return carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ && settings_.majorants == Majorants::PerBrick &&
+           capabilitiesOf(settings_).recordsFootprints && keysFit && !rendersChannelsInOnePass(settings_);
+}
+
 SurfacePrediction Predictor::predict() {
     RenderSettings rs = settings_;
     rs.showProgress = false;
-    // Footprints hold voxel keys in 32 bits.
-    const bool keysFit = uint64_t(state_->scene.medium->majorants().brickCount()) * MajorantGrid::kBrickVoxels <=
-                         uint64_t(UINT32_MAX) + 1;
-    const bool carries = carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ &&
-                         rs.majorants == Majorants::PerBrick && capabilitiesOf(rs).recordsFootprints && keysFit;
-    const bool byControlVariates = carries && carryOver_.method == CarryOver::Method::ControlVariates;
-    if (carries && (!byControlVariates || !rendersChannelsInOnePass(rs))) {
+    if (carriesOver()) {
+        const bool byControlVariates = carryOver_.method == CarryOver::Method::ControlVariates;
         SurfacePrediction p;
         p.voxels = surfaceVoxels();
         try {

@@ -20,9 +20,10 @@ struct SurfacePrediction {
     std::vector<Vec3i> voxels;  // the surface voxels, in sensor order (z, then y, then x)
     std::vector<RGB> radiance, standardError;
     std::vector<uint32_t> samples;  // per voxel (per channel rendered)
-    // Carrying over (Predictor::carryOver): the voxels whose kept samples
-    // were traced again because their paths met a relabelled brick, and
-    // whether the prediction started afresh.
+    // Carrying over (Predictor::carryOver): the voxels some of whose
+    // samples were traced again because their paths read a change (kept
+    // samples: with the new labels; control variates: with the previous),
+    // and whether the prediction started afresh.
     size_t retracedVoxels = 0;
     bool startedAfresh = true;
     // Whether voxels share samples (light paths score many): their errors
@@ -52,7 +53,8 @@ struct AdaptiveSampling {
 //    settings().spp samples per voxel, the next sample indices of the same
 //    seed; a voxel whose paths read a change (PathFootprints) has its kept
 //    samples traced again with the same random numbers, so every voxel
-//    holds the bits of a render of its samples in one go. Of a touched
+//    holds the bits of a render of its samples in one go (one pass per
+//    channel). Of a touched
 //    voxel's kept samples at most the last retraceSamples are traced again,
 //    the older ones dropped (by index, whatever their paths did: the
 //    estimate stays unbiased).
@@ -65,11 +67,13 @@ struct AdaptiveSampling {
 //    + w D, F the samples' mean and D their differences', with variance at
 //    most w^2 V_before + ((1 - w) se_F + w se_D)^2 (both errors pooled by
 //    the film); w is chosen before the samples, from the last prediction's
-//    errors, as that bound's minimum, so the estimate stays unbiased and
-//    its error covers the weights.
+//    errors, as that bound's minimum. Unbiased for a fixed w; w follows
+//    the last errors, which move a little with the estimate, so a small
+//    bias is possible (none seen against references: docs/api.md). A
+//    prediction with the last one's seed starts afresh.
 // Both need an estimator that records footprints (volpath), per-brick
-// majorants, one process and no adaptive sampling; ControlVariates also
-// single-channel passes (channel sampling "separate"). Otherwise every
+// majorants, one process, no adaptive sampling and one pass per channel
+// (channel sampling "separate"; carriesOver()). Otherwise every
 // prediction starts afresh, as after setLabels, a change of shape, or a
 // change of any setting but spp (KeptSamples) or spp and seed
 // (ControlVariates).
@@ -109,6 +113,9 @@ public:
     const RenderSettings& settings() const { return settings_; }
     AdaptiveSampling& adaptive() { return adaptive_; }
     CarryOver& carryOver() { return carryOver_; }
+    // Whether the next prediction carries over (asked, and possible with
+    // these settings: CarryOver).
+    bool carriesOver() const;
     const LabelGrid& labels() const;
     size_t surfaceVoxelCount() const;
     // The surface voxels in the order predict() reports them, and where

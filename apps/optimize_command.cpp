@@ -95,14 +95,15 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         else if (*method == "control-variates") os.carryOver = CarryOver::Method::ControlVariates;
         else throw UsageError("--carry-over must be kept or control-variates");
     }
-    if (auto x = args.number("--hysteresis")) {
-        if (!(*x >= 0 && *x < 0.5)) throw UsageError("--hysteresis must be in [0, 0.5)");
-        os.hysteresis = float(*x);
-    }
     if (auto h = args.value("--halftone")) {
         const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, *h);
         if (!method) throw UsageError("--halftone must be error-diffusion, thresholds or nearest");
         os.halftone = *method;
+    }
+    if (auto x = args.number("--hysteresis")) {
+        if (!(*x >= 0 && *x < 0.5)) throw UsageError("--hysteresis must be in [0, 0.5)");
+        if (os.halftone != HalftoneMethod::Thresholds) throw UsageError("--hysteresis needs --halftone thresholds");
+        os.hysteresis = float(*x);
     }
     if (auto s = args.number("--update-footprint-mm")) {
         if (!(*s >= 0 && *s <= 10)) throw UsageError("--update-footprint-mm must be in [0, 10]");
@@ -272,7 +273,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kSeedOption,
                     {"--step", "X", "share of the error one iteration corrects, at each voxel's measured gain (0..2]"},
                     {"--shell-mm", "D", "depth of the shell whose labels change"},
-                    {"--halftone", "error-diffusion|thresholds",
+                    {"--halftone", "error-diffusion|thresholds|nearest",
                      "how the shell's mixtures become labels (default error-diffusion; thresholds: a blue-noise "
                      "matrix, where a request that moves little relabels few voxels)"},
                     {"--record-changes", "FILE",

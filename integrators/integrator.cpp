@@ -76,7 +76,8 @@ void PixelIntegrator::renderPixelPairs(const RenderPass& pass, Film& film, size_
                                        LabelMedium::Tracker& medium, LabelMedium::Tracker& before,
                                        PathStats& tileStats) const {
     const CoupledSampling& coupled = *pass.coupled;
-    const int c = pass.channel;  // single-channel passes only
+    const int c = pass.channel;
+    if (c < 0) throw std::logic_error("samples in pairs take one pass per channel");
     thread_local LabelReads reads;
     for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
         if (interruptRequested()) return;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "prepare/threshold_matrix.h"
 
 namespace pl {
 
@@ -123,27 +122,15 @@ void ErrorDiffusionHalftoner::halftoneSlice(int z, const std::vector<MaterialFra
 }
 
 void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
-                   const std::function<void(size_t, int)>& chosen, HalftoneMethod method, const Vec3i& indexMin,
-                   const Vec3f& voxelSize_mm) {
+                   const std::function<void(size_t, int)>& chosen) {
     const size_t sliceSize = size_t(resolution.x) * size_t(resolution.y);
     ErrorDiffusionHalftoner halftoner(resolution.x, resolution.y);
-    const ThresholdMatrix* thresholds =
-        method == HalftoneMethod::Thresholds ? &ThresholdMatrix::forVoxel(voxelSize_mm) : nullptr;
     std::vector<MaterialFractions> targets(sliceSize);
-    std::vector<uint8_t> active(sliceSize), material(sliceSize);
+    std::vector<uint8_t> active(sliceSize), material;
     for (int z = 0; z < resolution.z; ++z) {
         const size_t slice = size_t(z) * sliceSize;
         for (size_t i = 0; i < sliceSize; ++i) active[i] = wanted(slice + i, targets[i]);
-        if (method == HalftoneMethod::ErrorDiffusion) {
-            halftoner.halftoneSlice(z, targets, active, material);
-        } else {
-            for (size_t i = 0; i < sliceSize; ++i) {
-                if (!active[i]) continue;
-                const Vec3i v = indexMin + Vec3i{int(i % resolution.x), int(i / resolution.x), z};
-                material[i] = uint8_t(thresholds ? materialAtThreshold(targets[i], thresholds->at(v))
-                                                 : largestFraction(targets[i]));
-            }
-        }
+        halftoner.halftoneSlice(z, targets, active, material);
         for (size_t i = 0; i < sliceSize; ++i)
             if (active[i]) chosen(slice + i, material[i]);
     }

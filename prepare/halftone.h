@@ -48,9 +48,10 @@ inline constexpr std::array<EnumName<HalftoneMethod>, 3> kHalftoneMethodNames{
 // darkest (white, yellow, cyan, magenta, black), share [0, 1) by their
 // fractions, and a voxel takes the one whose share holds its threshold
 // (ThresholdMatrix::at). A voxel's material follows from its own fractions
-// alone: a request that moves by a fraction d relabels about a share d of
-// its voxels, where error diffusion carries any change along the rest of
-// the slice. The darkness of a uniform mixture's pattern is a monotone
+// alone: a request whose materials' shares move by d relabels the share of
+// its voxels that the boundaries between the shares sweep (2d when d moves
+// from white to cyan past yellow), where error diffusion carries any change
+// along the rest of the slice. The darkness of a uniform mixture's pattern is a monotone
 // function of the blue-noise matrix, so its grain is blue too.
 int materialAtThreshold(const MaterialFractions& fractions, float threshold);
 // The same with hysteresis, for a voxel that holds material `current`: it
@@ -81,12 +82,10 @@ private:
 };
 
 // Halftones a frame's voxels (index x fastest, then y, then z) slice by
-// slice: wanted(i, f) says whether voxel i takes part and sets the
-// fractions it asks for; chosen(i, m) receives the material index of each
-// voxel that does. By thresholds, the matrix's voxel is indexMin + the
-// voxel's place in the frame.
+// slice by error diffusion: wanted(i, f) says whether voxel i takes part
+// and sets the fractions it asks for; chosen(i, m) receives the material
+// index of each voxel that does.
 void halftoneFrame(const Vec3i& resolution, const std::function<bool(size_t, MaterialFractions&)>& wanted,
-                   const std::function<void(size_t, int)>& chosen, HalftoneMethod method = HalftoneMethod::ErrorDiffusion,
-                   const Vec3i& indexMin = {0, 0, 0}, const Vec3f& voxelSize_mm = {1, 1, 1});
+                   const std::function<void(size_t, int)>& chosen);
 
 }  // namespace pl

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <tuple>
 
 #include "core/rng.h"
@@ -74,8 +75,9 @@ private:
 }  // namespace
 
 ThresholdMatrix::ThresholdMatrix(const Vec3i& tile, const Vec3f& voxelSize_mm)
-    : tile_(tile), threshold_(size_t(tile.x) * tile.y * tile.z) {
+    : tile_(tile), threshold_(size_t(std::max(tile.x, 0)) * size_t(std::max(tile.y, 0)) * size_t(std::max(tile.z, 0))) {
     const size_t n = threshold_.size();
+    if (n < 64) throw std::invalid_argument("a threshold matrix needs at least 64 voxels");
     std::vector<uint32_t> rank(n);
     // The initial pattern: a tenth of the voxels at random, then the
     // tightest cluster moved to the largest void until it moves back.
@@ -114,8 +116,8 @@ ThresholdMatrix::ThresholdMatrix(const Vec3i& tile, const Vec3f& voxelSize_mm)
 
 Vec3i ThresholdMatrix::tileFor(const Vec3f& voxelSize_mm) {
     // About 16,000 voxels as near a cube in mm as powers of two give
-    // (32 x 16 x 32 for the printer's 42 x 85 x 27 um): 1.4 mm at that
-    // voxel, its making under a second.
+    // (32 x 16 x 32 for the printer's 42 x 85 x 27 um: 1.35 x 1.36 x 0.86
+    // mm), made in under a second.
     const double side_mm = std::cbrt(16384.0 * voxelSize_mm.x * voxelSize_mm.y * voxelSize_mm.z);
     Vec3i tile;
     for (int a = 0; a < 3; ++a) {

@@ -241,6 +241,13 @@ TEST(CarryOver, StartsAfreshOnANewGridOrOtherSettings) {
     EXPECT_EQ(p.samples[0], 6u);
     predictor->setLabels(predictor->labels().withChanges({}));
     EXPECT_TRUE(predictor->predict().startedAfresh);
+    // Control variates: a new seed carries on, the same seed (the same
+    // samples again) starts afresh.
+    predictor->carryOver().method = CarryOver::Method::ControlVariates;
+    EXPECT_TRUE(predictor->predict().startedAfresh);
+    predictor->settings().seed += 1;
+    EXPECT_FALSE(predictor->predict().startedAfresh);
+    EXPECT_TRUE(predictor->predict().startedAfresh);
     // Off: a plain prediction, the bits of the predictor without carry-over.
     predictor->carryOver().enabled = false;
     const SurfacePrediction off = predictor->predict();
