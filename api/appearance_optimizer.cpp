@@ -79,8 +79,7 @@ std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const Voxe
         owner.forEachSet([&](const Vec3i& v, int32_t o) {
             const MaterialFractions& f = mixtures[size_t(o)];
             const Label now = label.at(v);
-            const int m = thresholds ? materialAtThreshold(f, thresholds->at(v), printMaterialOf(now), hysteresis)
-                                     : largestFraction(f);
+            const int m = materialOfVoxel(f, thresholds, v, printMaterialOf(now), hysteresis);
             if (kPrintMaterialLabel[m] != now) changes.push_back({v, kPrintMaterialLabel[m]});
         });
         return changes;
@@ -99,14 +98,6 @@ std::vector<LabelGrid::Change> halftoneShell(const LabelGrid& labels, const Voxe
             if (l != label.at(v)) changes.push_back({v, l});
         });
     return changes;
-}
-
-// Radiance (or its standard error) as reflectance: over the surroundings' radiance.
-std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& environment) {
-    std::vector<RGB> out(radiance.size());
-    for (size_t i = 0; i < out.size(); ++i)
-        for (int c = 0; c < 3; ++c) out[i][c] = environment[c] > 0 ? radiance[i][c] / environment[c] : 0.0f;
-    return out;
 }
 
 std::vector<Lab> labsOf(const std::vector<RGB>& colours) {

@@ -139,15 +139,15 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         pendingUpdateSeconds_ += secondsSince(t0);
         return;
     }
+    // (At most one of the two is kept: predict() drops the other.)
+    LabelChanges* marks = carried_ ? &carried_->changes : running_ ? &running_->changes : nullptr;
     const MajorantGrid &before = previous->majorants(), &after = state_->scene.medium->majorants();
-    for (LabelChanges* marks : {carried_ ? &carried_->changes : nullptr, running_ ? &running_->changes : nullptr}) {
-        if (!marks) continue;
+    if (marks)
         for (const Vec3i& v : *changed) {
             marks->markRelabelled(after.voxelKey(v));
             const Vec3i b = MajorantGrid::brickOf(v);
             if (!sameBoundsForTrackers(before.bounds(b), after.bounds(b))) marks->markBoundsChanged(after.brickIndex(b));
         }
-    }
     // The running estimate renders the labels of its last prediction too.
     if (running_ && !running_->previous) running_->previous = std::move(previous);
     pendingUpdateSeconds_ += secondsSince(t0);
@@ -195,9 +195,7 @@ bool converged(const Film& film, size_t p, const std::vector<int>& channels, con
     }
     return true;
 }
-}  // namespace
 
-namespace {
 // Whether samples drawn with `a` may be pooled with samples drawn with `b`:
 // the same paths but for their number (the options of the estimators that
 // record footprints, volpath's, included).
@@ -219,9 +217,7 @@ void readFilm(const Film& film, const RenderSettings& rs, SurfacePrediction& p) 
         p.samples[i] = film.samples(i, rs.channels.front());
     }
 }
-}  // namespace
 
-namespace {
 // The weight w of the running estimate X = w X_before + (1 - w) F + w D
 // (F the new samples' mean, D the mean of their differences f - h), chosen
 // before the samples: the least of w^2 V + ((1 - w) a + w b)^2, the bound
@@ -252,15 +248,16 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
         r.changes = LabelChanges(state_->scene.medium->majorants().brickCount());
         readFilm(film, rs, p);
         r.estimate = p.radiance;
-        r.variance.resize(n);
         // Until the first pairs say otherwise, the differences are taken
         // as two independent renders' (w = 0: the next prediction afresh).
         r.sampleError = p.standardError;
+        r.variance.resize(n);
         r.differenceError.resize(n);
         for (size_t i = 0; i < n; ++i)
-            for (int c = 0; c < 3; ++c) r.differenceError[i][c] = std::sqrt(2.0f) * p.standardError[i][c];
-        for (size_t i = 0; i < n; ++i)
-            for (int c = 0; c < 3; ++c) r.variance[i][c] = p.standardError[i][c] * p.standardError[i][c];
+            for (int c = 0; c < 3; ++c) {
+                r.variance[i][c] = p.standardError[i][c] * p.standardError[i][c];
+                r.differenceError[i][c] = std::sqrt(2.0f) * p.standardError[i][c];
+            }
         p.renderSeconds = rounds.result().seconds;
         p.stats = rounds.stats();
         return;
@@ -332,7 +329,7 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
     std::map<uint32_t, std::vector<uint32_t>> retraceFrom;
     const uint32_t retraced = std::min(c.drawn, carryOver_.retraceSamples);
     for (size_t i = 0; i < n; ++i) {
-        if (c.changes.empty() || !c.footprints.meets(i, c.changes)) continue;
+        if (!c.footprints.meets(i, c.changes)) continue;
         ++p.retracedVoxels;
         film.clearPixel(i);
         c.footprints.clear(i);

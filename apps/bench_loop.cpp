@@ -23,11 +23,6 @@ std::vector<LoopStep> replay(const SceneDescription& desc, const RenderSettings&
         method == "kept" ? CarryOver::Method::KeptSamples : CarryOver::Method::ControlVariates;
     const SurfaceGaussian eye(predictor.surfacePoints_mm(), kEyeFootprint_mm);
     const RGB environment = predictor.environment();
-    auto asReflectance = [&](std::vector<RGB> v) {
-        for (RGB& x : v)
-            for (int c = 0; c < 3; ++c) x[c] = environment[c] > 0 ? x[c] / environment[c] : 0.0f;
-        return v;
-    };
     std::vector<LoopStep> steps;
     for (size_t it = 0; it <= changes.size(); ++it) {
         predictor.settings().seed = method == "kept" ? seed : seed + it;
@@ -36,7 +31,8 @@ std::vector<LoopStep> replay(const SceneDescription& desc, const RenderSettings&
         step.seconds = p.updateSeconds + p.renderSeconds;
         step.retracedVoxels = p.retracedVoxels;
         step.noiseDeltaE =
-            noiseColourError(eye, asReflectance(p.radiance), asReflectance(p.standardError)).meanFiltered;
+            noiseColourError(eye, reflectance(p.radiance, environment), reflectance(p.standardError, environment))
+                .meanFiltered;
         steps.push_back(step);
         std::fprintf(stderr, "bench --loop: %s, iteration %zu: noise %.3f, %.1f s\n", method.c_str(), it,
                      step.noiseDeltaE, step.seconds);

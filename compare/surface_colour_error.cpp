@@ -63,6 +63,13 @@ SurfaceColourError surfaceColourError(const SurfaceGaussian& footprint, const st
     return errorOf(deltaEs(predicted, reference), deltaEs(footprint.apply(predicted), footprint.apply(reference)));
 }
 
+std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& environment) {
+    std::vector<RGB> out(radiance.size());
+    for (size_t i = 0; i < out.size(); ++i)
+        for (int c = 0; c < 3; ++c) out[i][c] = environment[c] > 0 ? radiance[i][c] / environment[c] : 0.0f;
+    return out;
+}
+
 std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed) {
     std::vector<RGB> moved(colours);
     for (size_t i = 0; i < moved.size(); ++i) {

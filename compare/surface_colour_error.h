@@ -50,6 +50,10 @@ SurfaceColourError noiseColourError(const std::vector<Point3f>& points_mm, const
 SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std::vector<RGB>& colours,
                                     const std::vector<RGB>& standardErrors, uint64_t seed = 1);
 
+// Radiance (or its standard error) as reflectance: over the surroundings'
+// radiance (0 where that is 0).
+std::vector<RGB> reflectance(const std::vector<RGB>& radiance, const RGB& environment);
+
 // The colours moved by one draw of their standard errors (normal, from
 // `seed`; the same bits whatever the threads).
 std::vector<RGB> movedByNoise(const std::vector<RGB>& colours, const std::vector<RGB>& standardErrors, uint64_t seed);

@@ -7,18 +7,14 @@ namespace pl {
 void PixelIntegrator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
     if (pass.coupled) {
         // A tracker of the previous labels per tile, beside the current's.
-        std::mutex statsMutex;
-        parallelForTiles(pass.share.size(pass.sensor.pixelCount()), 64, [&](size_t begin, size_t end) {
+        renderTiles(pass, stats, progress, pass.count, [&](size_t begin, size_t end, PathStats& tileStats) {
             LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
             LabelMedium::Tracker before(*pass.coupled->previous, pass.majorants);
-            PathStats tileStats;
             for (size_t i = begin; i < end; ++i) {
-                if (interruptRequested()) return;
+                if (interruptRequested()) return false;
                 renderPixelPairs(pass, film, i, pass.share.pixel(i), medium, before, tileStats);
             }
-            progress.advance((end - begin) * pass.count);
-            std::lock_guard<std::mutex> lock(statsMutex);
-            stats += tileStats;
+            return true;
         });
         return;
     }

@@ -164,25 +164,37 @@ public:
     static std::string refusal(const RenderSettings& /*settings*/) { return {}; }
 };
 
-// The pass's pixels in tiles on the scheduler, each pixel by one thread:
-// perPixel(i, medium, tileStats) for position i of the share, with the
-// tile's tracker and path statistics (added to `stats` as the tile ends).
-// Progress advances by unitsPerPixel a pixel. Stops at Ctrl-C (checked
-// before each pixel; perPixel returns early to end its own).
-template <class PerPixel>
-void renderPixelTiles(const RenderPass& pass, PathStats& stats, ProgressBar& progress, uint64_t unitsPerPixel,
-                      PerPixel&& perPixel) {
+// The pass's pixels in tiles on the scheduler, each tile by one thread:
+// perTile(begin, end, tileStats) renders positions [begin, end) of the
+// share with the tile's path statistics (added to `stats` as the tile
+// ends) and returns false if Ctrl-C stopped it (checked before each
+// pixel). Progress advances by unitsPerPixel a pixel of a finished tile.
+template <class PerTile>
+void renderTiles(const RenderPass& pass, PathStats& stats, ProgressBar& progress, uint64_t unitsPerPixel,
+                 PerTile&& perTile) {
     std::mutex statsMutex;
     parallelForTiles(pass.share.size(pass.sensor.pixelCount()), 64, [&](size_t begin, size_t end) {
-        LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
         PathStats tileStats;
-        for (size_t i = begin; i < end; ++i) {
-            if (interruptRequested()) return;
-            perPixel(i, medium, tileStats);
-        }
+        if (!perTile(begin, end, tileStats)) return;
         progress.advance((end - begin) * unitsPerPixel);
         std::lock_guard<std::mutex> lock(statsMutex);
         stats += tileStats;
+    });
+}
+
+// The same pixel by pixel: perPixel(i, medium, tileStats) for position i
+// of the share, with the tile's tracker (perPixel returns early to end
+// its own at Ctrl-C).
+template <class PerPixel>
+void renderPixelTiles(const RenderPass& pass, PathStats& stats, ProgressBar& progress, uint64_t unitsPerPixel,
+                      PerPixel&& perPixel) {
+    renderTiles(pass, stats, progress, unitsPerPixel, [&](size_t begin, size_t end, PathStats& tileStats) {
+        LabelMedium::Tracker medium(*pass.scene.medium, pass.majorants);
+        for (size_t i = begin; i < end; ++i) {
+            if (interruptRequested()) return false;
+            perPixel(i, medium, tileStats);
+        }
+        return true;
     });
 }
 

@@ -46,19 +46,4 @@ void PathFootprints::clear(size_t pixel) {
     std::vector<uint32_t>().swap(voxels_[pixel]);
 }
 
-bool PathFootprints::meets(size_t pixel, const LabelChanges& changes) const {
-    for (uint32_t b : bricks_[pixel])
-        if (changes.boundsChanged(b)) return true;
-    for (uint32_t v : voxels_[pixel])
-        if (changes.relabelled(v)) return true;
-    return false;
-}
-
-uint64_t PathFootprints::memoryBytes() const {
-    uint64_t bytes = 2 * bricks_.capacity() * sizeof(bricks_[0]);
-    for (size_t p = 0; p < bricks_.size(); ++p)
-        bytes += (bricks_[p].capacity() + voxels_[p].capacity()) * sizeof(uint32_t);
-    return bytes;
-}
-
 }  // namespace pl

@@ -34,15 +34,18 @@ public:
         return m != kNone && ((masks_[m][bit / 64] >> (bit % 64)) & 1u);
     }
     bool empty() const { return masks_.empty() && !anyBounds_; }
-    // Whether a path that read `reads` read anything that changed.
-    bool metBy(const LabelReads& reads) const {
+    // Whether paths that read these bricks' bounds and these voxels
+    // (keys) read anything that changed.
+    template <class Bricks, class Voxels>
+    bool metBy(const Bricks& bricks, const Voxels& voxels) const {
         if (empty()) return false;
-        for (uint32_t b : reads.bricks)
+        for (auto b : bricks)
             if (boundsChanged(b)) return true;
-        for (uint64_t v : reads.voxels)
+        for (auto v : voxels)
             if (relabelled(v)) return true;
         return false;
     }
+    bool metBy(const LabelReads& reads) const { return metBy(reads.bricks, reads.voxels); }
     // Nothing changed (samples drawn from now on).
     void clear();
 
@@ -65,9 +68,9 @@ public:
     // Forgets a pixel's reads (its samples are traced again).
     void clear(size_t pixel);
     // Whether the pixel's paths read anything that changed.
-    bool meets(size_t pixel, const LabelChanges& changes) const;
-    size_t pixelCount() const { return bricks_.size(); }
-    uint64_t memoryBytes() const;
+    bool meets(size_t pixel, const LabelChanges& changes) const {
+        return changes.metBy(bricks_[pixel], voxels_[pixel]);
+    }
 
 private:
     std::vector<std::vector<uint32_t>> bricks_, voxels_;

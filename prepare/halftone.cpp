@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "prepare/threshold_matrix.h"
 
 namespace pl {
 
@@ -61,6 +62,12 @@ int printMaterialOf(Label label) {
 
 int largestFraction(const MaterialFractions& fractions) {
     return int(std::max_element(fractions.begin(), fractions.end()) - fractions.begin());
+}
+
+int materialOfVoxel(const MaterialFractions& fractions, const ThresholdMatrix* thresholds, const Vec3i& voxel,
+                    int current, float hysteresis) {
+    return thresholds ? materialAtThreshold(fractions, thresholds->at(voxel), current, hysteresis)
+                      : largestFraction(fractions);
 }
 
 ErrorDiffusionHalftoner::ErrorDiffusionHalftoner(int resX, int resY)

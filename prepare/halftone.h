@@ -66,6 +66,13 @@ int printMaterialOf(Label label);
 // The material of each voxel that has no neighbours' say: its largest fraction.
 int largestFraction(const MaterialFractions& fractions);
 
+class ThresholdMatrix;
+// A voxel's material decided alone: by the matrix's threshold at `voxel`
+// (with hysteresis for a voxel holding material `current`, -1: none), or
+// without a matrix its largest fraction.
+int materialOfVoxel(const MaterialFractions& fractions, const ThresholdMatrix* thresholds, const Vec3i& voxel,
+                    int current = -1, float hysteresis = 0.0f);
+
 class ErrorDiffusionHalftoner {
 public:
     ErrorDiffusionHalftoner(int resX, int resY);

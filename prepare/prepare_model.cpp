@@ -95,8 +95,7 @@ PreparedModel prepareModel(const Geometry& geometry, const SurfaceAppearance& lo
             for (size_t i = 0; i < active.size(); ++i) {
                 if (!active[i]) continue;
                 const Vec3i v{int(i % r.x), int(i / r.x), z};  // as the labels are set below
-                chosen[i] = uint8_t(thresholds ? materialAtThreshold(targets[i], thresholds->at(v))
-                                               : largestFraction(targets[i]));
+                chosen[i] = uint8_t(materialOfVoxel(targets[i], thresholds, v));
             }
         }
         for (int y = 0; y < r.y; ++y)
