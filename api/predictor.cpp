@@ -115,8 +115,9 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     // Grid, lookup tables and majorants: everything that depends on labels.
     std::unique_ptr<LabelMedium> previous = std::move(state_->scene.medium);
     try {
-        if (changed) {  // majorants of the touched bricks only
-            state_->scene.medium = std::make_unique<LabelMedium>(std::move(grid), *previous, *changed);
+        if (changed) {  // majorants of the touched bricks only (that the running estimate lets only rise)
+            state_->scene.medium =
+                std::make_unique<LabelMedium>(std::move(grid), *previous, *changed, running_ != nullptr);
         } else {
             auto next = std::make_unique<LabelMedium>(std::move(grid), previous->materials());
             next->setSurfaceFields(previous->surfaceFields());
@@ -142,9 +143,14 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     // (At most one of the two is kept: predict() drops the other.)
     LabelChanges* marks = carried_ ? &carried_->changes : running_ ? &running_->changes : nullptr;
     const MajorantGrid &before = previous->majorants(), &after = state_->scene.medium->majorants();
+    // Kept samples, drawn before, are compared with the current labels; the
+    // running estimate's samples, drawn next, with its last prediction's.
+    const LabelGrid& current = labels();
     if (marks)
         for (const Vec3i& v : *changed) {
-            marks->markRelabelled(after.voxelKey(v));
+            const uint64_t key = after.voxelKey(v);
+            if (carried_) marks->markRelabelled(key, current.label(v));
+            else if (!marks->relabelled(key)) marks->markRelabelled(key, previous->grid().label(v));
             const Vec3i b = MajorantGrid::brickOf(v);
             if (!sameBoundsForTrackers(before.bounds(b), after.bounds(b))) marks->markBoundsChanged(after.brickIndex(b));
         }
@@ -220,13 +226,16 @@ void readFilm(const Film& film, const RenderSettings& rs, SurfacePrediction& p) 
 
 // The weight w of the running estimate X = w X_before + (1 - w) F + w D
 // (F the new samples' mean, D the mean of their differences f - h), chosen
-// before the samples: the least of w^2 V + ((1 - w) a + w b)^2, the bound
-// of its variance, with a, b the standard errors F and D are expected to
-// have (the last prediction's): w = a (a - b) / (V + (a - b)^2) in [0, 1].
+// before the samples from the standard errors a, b that F and D are
+// expected to have (the last prediction's). With f and h alike in spread
+// (labels that change little), Cov(F, D) = b^2 / 2, so the estimate's
+// variance is w^2 V + (1 - w)^2 a^2 + w b^2, least at
+// w = (a^2 - b^2 / 2) / (V + a^2) in [0, 1]. The weight only has to be
+// good: the variance reported is measured on the samples (CoupledSampling).
 float controlWeight(double variance, double a, double b) {
-    const double denominator = variance + (a - b) * (a - b);
+    const double denominator = variance + a * a;
     if (!(denominator > 0)) return 0.0f;  // no spread seen at all: the new samples alone
-    return float(std::clamp(a * (a - b) / denominator, 0.0, 1.0));
+    return float(std::clamp((a * a - 0.5 * b * b) / denominator, 0.0, 1.0));
 }
 }  // namespace
 
@@ -245,7 +254,7 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
         running_ = std::make_unique<RunningEstimate>();
         RunningEstimate& r = *running_;
         r.settings = rs;
-        r.changes = LabelChanges(state_->scene.medium->majorants().brickCount());
+        r.changes = LabelChanges(state_->scene.medium->majorants().brickCount(), state_->scene.medium->luts());
         readFilm(film, rs, p);
         r.estimate = p.radiance;
         // Until the first pairs say otherwise, the differences are taken
@@ -271,18 +280,19 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
         for (int c : rs.channels)
             weight[i][c] = controlWeight(r.variance[i][c], perSample * r.sampleError[i][c],
                                          perSample * r.differenceError[i][c]);
-    Film differences(n);
+    Film differences(n), combined(n);
     std::vector<uint32_t> tracedTwice(n, 0);
     // No change since: the previous labels are the current ones.
     const CoupledSampling coupled{r.previous ? r.previous.get() : state_->scene.medium.get(), &r.changes,
-                                  &differences, &tracedTwice};
+                                  &differences, &tracedTwice, &weight, &combined};
     rounds.result().seconds += secondsSince(t0);
     rounds.renderPairs(&coupled);
     rounds.render(nullptr, 0, rs.spp);
     const auto t1 = std::chrono::steady_clock::now();
     differences.poolErrors(&sensor);
-    // X = w X_before + (1 - w) F + w D; its variance at most
-    // w^2 V_before + ((1 - w) se_F + w se_D)^2 (F and D drawn together).
+    combined.poolErrors(&sensor);
+    // X = w X_before + (1 - w) F + w D, the last two the combined samples'
+    // mean: its variance w^2 V_before + their squared standard error.
     p.radiance.resize(n);
     p.standardError.resize(n);
     p.samples.assign(n, rs.spp);
@@ -290,9 +300,9 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
         p.retracedVoxels += tracedTwice[i] > 0;
         for (int c : rs.channels) {
             const double w = weight[i][c], seF = film.standardError(i, c), seD = differences.standardError(i, c);
-            r.estimate[i][c] = float(w * r.estimate[i][c] + (1 - w) * film.mean(i, c) + w * differences.mean(i, c));
-            const double spread = (1 - w) * seF + w * seD;
-            r.variance[i][c] = float(w * w * r.variance[i][c] + spread * spread);
+            r.estimate[i][c] = float(w * r.estimate[i][c] + combined.mean(i, c));
+            const double seY = combined.standardError(i, c);
+            r.variance[i][c] = float(w * w * r.variance[i][c] + seY * seY);
             r.sampleError[i][c] = float(seF);
             r.differenceError[i][c] = float(seD);
         }
@@ -318,7 +328,7 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
         carried_->film = Film(n);
         carried_->footprints = PathFootprints(n);
         carried_->firstSample.assign(n, 0);
-        carried_->changes = LabelChanges(state_->scene.medium->majorants().brickCount());
+        carried_->changes = LabelChanges(state_->scene.medium->majorants().brickCount(), state_->scene.medium->luts());
     }
     CarriedSamples& c = *carried_;
     Film& film = rounds.result().film;
@@ -348,10 +358,9 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
 }
 
 bool Predictor::carriesOver() const {
-    // Footprints hold voxel keys in 32 bits; one pass per channel keeps
-    // each sample's path whole (hero channels go to the film in groups).
-    const bool keysFit = uint64_t(state_->scene.medium->majorants().brickCount()) * MajorantGrid::kBrickVoxels <=
-                         uint64_t(UINT32_MAX) + 1;
+    // One pass per channel keeps each sample's path whole (hero channels
+    // go to the film in groups).
+    const bool keysFit = PathFootprints::fits(state_->scene.medium->majorants());
     return carryOver_.enabled && !adaptive_.enabled && !acrossRanks_ && settings_.majorants == Majorants::PerBrick &&
            capabilitiesOf(settings_).recordsFootprints && keysFit && !rendersChannelsInOnePass(settings_);
 }

@@ -93,6 +93,8 @@ void PixelIntegrator::renderPixelPairs(const RenderPass& pass, Film& film, size_
             (*coupled.tracedTwice)[p] += 1;
         }
         coupled.differences->add(pass.share.filmPixel(i), c, difference);
+        const float w = (*coupled.weights)[p][c];
+        coupled.combined->add(pass.share.filmPixel(i), c, ChannelSample{(1 - w) * f.value + w * difference.value});
     }
 }
 

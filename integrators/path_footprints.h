@@ -2,9 +2,11 @@
 // depend on the labels only through what their trackers read
 // (LabelMedium::Tracker::recordReads): the bounds of the majorant bricks
 // their free flights entered and the labels of the voxels they looked up.
-// A pixel none of whose bricks changed its bounds and none of whose voxels
-// was relabelled renders the same paths after the change: the prediction
-// API keeps its samples (api/predictor.h, CarryOver).
+// A pixel none of whose bricks changed its bounds and none of whose reads
+// a relabelling contradicts (a null collision stays null if the new
+// label's extinction is no higher than the collision's threshold) renders
+// the same paths after the change: the prediction API keeps its samples
+// (api/predictor.h, CarryOver).
 #pragma once
 
 #include <array>
@@ -17,63 +19,81 @@
 namespace pl {
 
 // What changed since samples were drawn: the bricks whose bounds changed,
-// and the relabelled voxels by key (MajorantGrid::voxelKey), a bit mask
-// for each brick that holds any.
+// and the relabelled voxels by key (MajorantGrid::voxelKey), each with the
+// label the samples are compared with (the current one for samples drawn
+// before, the previous one for samples drawn now), a bit mask and a label
+// for each place of a brick that holds any.
 class LabelChanges {
 public:
-    explicit LabelChanges(size_t bricks = 0) : boundsChanged_(bricks, 0), mask_(bricks, kNone) {}
+    LabelChanges() = default;
+    LabelChanges(size_t bricks, const std::array<ChannelLut, 3>& luts);
     void markBoundsChanged(size_t brick) {
         boundsChanged_[brick] = 1;
         anyBounds_ = true;
     }
-    void markRelabelled(uint64_t voxelKey);
+    // The voxel's label to compare with is `other` (replacing any before).
+    void markRelabelled(uint64_t voxelKey, Label other);
     bool boundsChanged(size_t brick) const { return boundsChanged_[brick] != 0; }
     bool relabelled(uint64_t voxelKey) const {
-        const uint32_t m = mask_[voxelKey / MajorantGrid::kBrickVoxels];
-        const uint64_t bit = voxelKey % MajorantGrid::kBrickVoxels;
-        return m != kNone && ((masks_[m][bit / 64] >> (bit % 64)) & 1u);
+        const uint32_t m = brick_[voxelKey / MajorantGrid::kBrickVoxels];
+        const uint64_t place = voxelKey % MajorantGrid::kBrickVoxels;
+        return m != kNone && ((changed_[m].mask[place / 64] >> (place % 64)) & 1u);
     }
-    bool empty() const { return masks_.empty() && !anyBounds_; }
-    // Whether paths that read these bricks' bounds and these voxels
-    // (keys) read anything that changed.
-    template <class Bricks, class Voxels>
-    bool metBy(const Bricks& bricks, const Voxels& voxels) const {
-        if (empty()) return false;
-        for (auto b : bricks)
-            if (boundsChanged(b)) return true;
-        for (auto v : voxels)
-            if (relabelled(v)) return true;
-        return false;
+    // Whether a read (LabelRead's terms) would have gone otherwise with
+    // the other label.
+    bool contradicts(uint64_t voxelKey, int channel, float sameUpTo_perMm) const {
+        if (!relabelled(voxelKey)) return false;
+        const Label other = changed_[brick_[voxelKey / MajorantGrid::kBrickVoxels]].other[voxelKey % MajorantGrid::kBrickVoxels];
+        return !(sigmaT_perMm_[size_t(channel)][other] <= sameUpTo_perMm);
     }
-    bool metBy(const LabelReads& reads) const { return metBy(reads.bricks, reads.voxels); }
+    bool empty() const { return changed_.empty() && !anyBounds_; }
+    // Whether a path that read these would go otherwise.
+    bool metBy(const LabelReads& reads) const;
     // Nothing changed (samples drawn from now on).
     void clear();
 
 private:
     static constexpr uint32_t kNone = ~0u;
-    using BrickMask = std::array<uint64_t, MajorantGrid::kBrickVoxels / 64>;
+    struct BrickChanges {
+        std::array<uint64_t, MajorantGrid::kBrickVoxels / 64> mask{};
+        std::array<Label, MajorantGrid::kBrickVoxels> other{};
+    };
     std::vector<uint8_t> boundsChanged_;
-    std::vector<uint32_t> mask_;  // per brick: its mask in masks_, or kNone
-    std::vector<BrickMask> masks_;
+    std::vector<uint32_t> brick_;  // per brick: its changes in changed_, or kNone
+    std::vector<BrickChanges> changed_;
+    std::array<std::array<float, 256>, 3> sigmaT_perMm_{};  // per channel and label
     bool anyBounds_ = false;
 };
 
+// What each pixel's paths read, kept with its samples: per pixel the
+// bricks whose bounds they entered, and per label read and channel the
+// least extinction that would have changed them (LabelRead).
 class PathFootprints {
 public:
-    explicit PathFootprints(size_t pixels = 0) : bricks_(pixels), voxels_(pixels) {}
+    explicit PathFootprints(size_t pixels = 0) : bricks_(pixels), reads_(pixels) {}
 
+    // Whether a grid's voxel keys fit the footprints' 32-bit reads.
+    static bool fits(const MajorantGrid& majorants) {
+        return uint64_t(majorants.brickCount()) * MajorantGrid::kBrickVoxels * kSlots <= uint64_t(UINT32_MAX) + 1;
+    }
     // Adds what a pixel's paths read (the reads are sorted in place).
-    // Voxel keys must be below 2^32 (Predictor checks the grid).
     void add(size_t pixel, LabelReads& reads);
     // Forgets a pixel's reads (its samples are traced again).
     void clear(size_t pixel);
-    // Whether the pixel's paths read anything that changed.
-    bool meets(size_t pixel, const LabelChanges& changes) const {
-        return changes.metBy(bricks_[pixel], voxels_[pixel]);
-    }
+    // Whether the pixel's paths would go otherwise after the changes.
+    bool meets(size_t pixel, const LabelChanges& changes) const;
 
 private:
-    std::vector<std::vector<uint32_t>> bricks_, voxels_;
+    // A read in 8 bytes: voxel key x 4 + slot (the channel of a null
+    // collision, 3 for a read of the label itself) and the least of the
+    // slot's extinction bounds.
+    static constexpr uint32_t kSlots = 4;
+    struct Read {
+        uint32_t voxelSlot;
+        float sameUpTo_perMm;
+    };
+    std::vector<std::vector<uint32_t>> bricks_;
+    std::vector<std::vector<Read>> reads_;
 };
 
 }  // namespace pl

@@ -18,10 +18,11 @@ LabelMedium::LabelMedium(LabelGrid grid, MaterialTable materials)
     offset_ = grid_.frame().worldToCellOffset();
 }
 
-LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed)
+LabelMedium::LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed,
+                         bool majorantsOnlyRise)
     : grid_(std::move(grid)), materials_(previous.materials_), luts_(previous.luts_), majorants_(previous.majorants_),
       uniform_(previous.uniform_), fields_(previous.fields_) {
-    majorants_.update(grid_, luts_, changed);
+    majorants_.update(grid_, luts_, changed, majorantsOnlyRise);
     uniform_.update(grid_, changed);
     scale_ = grid_.frame().worldToCellScale();
     offset_ = grid_.frame().worldToCellOffset();
@@ -53,9 +54,40 @@ LabelMedium::Tracker::~Tracker() = default;
 
 Label LabelMedium::Tracker::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
-    if (reads_) reads_->voxels.push_back(medium_.majorants_.voxelKey(v));
+    if (reads_) reads_->voxels.push_back({medium_.majorants_.voxelKey(v)});
     return impl_->accessor.getValue(toCoord(v));
 }
+
+namespace {
+// Events that say, of each label read at a tentative collision, how much
+// of it the decision used (LabelRead): a null collision of delta tracking
+// only that the extinction stayed at or below u * majorant. The same
+// random numbers and decisions as the events alone.
+template <class Events>
+struct RecordedEvents {
+    Events& events;
+    LabelReads& reads;
+    PL_ALWAYS_INLINE float enter(const MajorantSegment& s) { return events.enter(s); }
+    PL_ALWAYS_INLINE bool collides(float t, Label l, Rng& rng) { return events.collides(t, l, rng); }
+    PL_ALWAYS_INLINE void leave(float t) { events.leave(t); }
+};
+
+template <>
+struct RecordedEvents<DeltaEvents> {
+    DeltaEvents& events;
+    LabelReads& reads;
+    PL_ALWAYS_INLINE float enter(const MajorantSegment& s) { return events.enter(s); }
+    PL_ALWAYS_INLINE bool collides(float /*t*/, Label l, Rng& rng) {
+        if (events.everyCollisionReal) return true;  // no label was looked up
+        const float threshold = rng.uniform() * events.sigmaMaj;
+        if (threshold < events.lut.sigmaT_perMm[l]) return true;
+        reads.voxels.back().sameUpTo_perMm = threshold;
+        reads.voxels.back().channel = events.channel;
+        return false;
+    }
+    PL_ALWAYS_INLINE void leave(float t) { events.leave(t); }
+};
+}  // namespace
 
 template <class Events>
 FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
@@ -78,10 +110,11 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
                                        });
         };
         auto recordedLabelAt = [&](const Vec3i& v) PL_ALWAYS_INLINE {
-            reads_->voxels.push_back(majorants.voxelKey(v));
+            reads_->voxels.push_back({majorants.voxelKey(v)});
             return acc.getValue(toCoord(v));
         };
-        return sampleMajorantFlight(cellRay, recorded, events, recordedLabelAt, rng);
+        RecordedEvents<Events> recordedEvents{events, *reads_};
+        return sampleMajorantFlight(cellRay, recorded, recordedEvents, recordedLabelAt, rng);
     }
     auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
         return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants, visit);

@@ -25,12 +25,25 @@ enum class Majorants { PerBrick, Global };
 inline constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{
     {{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
 
+// A label a path looked up (MajorantGrid::voxelKey) and how much of it
+// the path used. At a null collision in channel c the path only learnt
+// that the voxel's extinction in c was at most u * majorant (the
+// collision's uniform times the brick's majorant): any label whose
+// extinction in c stays at or below sameUpTo_perMm leaves the path as it
+// is. Every other read (a real collision, labelAt, a channel of hero or
+// spectral tracking) used the label itself (sameUpTo_perMm < 0).
+struct LabelRead {
+    uint64_t voxel = 0;
+    float sameUpTo_perMm = -1.0f;
+    int channel = 0;
+};
+
 // What paths read of the labels: the majorant bricks whose bounds they
-// entered (MajorantGrid::brickIndex) and the voxels whose labels they
-// looked up (MajorantGrid::voxelKey), in any order, with repeats.
+// entered (MajorantGrid::brickIndex) and the labels they looked up, in any
+// order, with repeats.
 struct LabelReads {
     std::vector<uint32_t> bricks;
-    std::vector<uint64_t> voxels;
+    std::vector<LabelRead> voxels;
     void clear() {
         bricks.clear();
         voxels.clear();
@@ -42,8 +55,9 @@ public:
     LabelMedium(LabelGrid grid, MaterialTable materials);
     // `grid` is `previous`'s grid with the `changed` voxels relabelled: only
     // their majorant bricks and uniform cells are recomputed (same result as
-    // a full build).
-    LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed);
+    // a full build, or majorants that only rise: MajorantGrid::update).
+    LabelMedium(LabelGrid grid, const LabelMedium& previous, const std::vector<Vec3i>& changed,
+                bool majorantsOnlyRise = false);
 
     const LabelGrid& grid() const { return grid_; }
     const GridFrame& frame() const { return grid_.frame(); }
@@ -90,9 +104,9 @@ public:
         Label labelAt(const Vec3i& voxel);
         // Where the tracker's answers came from, from now on (none: stop
         // recording): the bricks whose bounds a free flight entered and
-        // the voxels whose labels it or labelAt read (LabelReads). A path
-        // none of whose bricks changed its bounds and none of whose voxels
-        // was relabelled is the same path after the change. Free flights
+        // the labels it or labelAt read (LabelReads). A path none of whose
+        // bricks changed its bounds and none of whose reads a relabelling
+        // contradicts is the same path after the change. Free flights
         // against per-brick majorants and labelAt only: regular tracking
         // and the global majorant are not recorded.
         void recordReads(LabelReads* reads) { reads_ = reads; }

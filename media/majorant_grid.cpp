@@ -30,7 +30,7 @@ void MajorantGrid::boundWholeGrid() {
 }
 
 void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts,
-                          const std::vector<Vec3i>& changed) {
+                          const std::vector<Vec3i>& changed, bool majorantsOnlyRise) {
     const GridFrame& f = grid.frame();
     const Vec3i lo = f.indexMin, hi = f.indexMax();
     std::vector<uint8_t> done(bricks_.size(), 0);
@@ -46,6 +46,8 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
             for (int y = std::max(lo.y, b.y << kBrickLog2); y < std::min(hi.y, (b.y + 1) << kBrickLog2); ++y)
                 for (int xx = std::max(lo.x, b.x << kBrickLog2); xx < std::min(hi.x, (b.x + 1) << kBrickLog2); ++xx)
                     x.include(grid.label({xx, y, z}), luts, grid.voidLabel());
+        if (majorantsOnlyRise)
+            for (int c = 0; c < 3; ++c) x.maxSigmaT[c] = std::max(x.maxSigmaT[c], bricks_[i].maxSigmaT[c]);
         bricks_[i] = x;
     }
     boundWholeGrid();

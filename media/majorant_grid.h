@@ -46,9 +46,13 @@ public:
     MajorantGrid() = default;
     MajorantGrid(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts);
     // After relabelling `changed` voxels of `grid`: recomputes only their
-    // bricks (and the global maximum), with the result of
-    // a full construction.
-    void update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts, const std::vector<Vec3i>& changed);
+    // bricks (and the global maximum), with the result of a full
+    // construction; or, with `majorantsOnlyRise`, keeping each brick's
+    // majorant where its labels now need less (still a bound, and the
+    // same to free flights that crossed the brick before: a loop whose
+    // labels come and go stops changing its bricks' bounds).
+    void update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts, const std::vector<Vec3i>& changed,
+                bool majorantsOnlyRise = false);
 
     // Bricks [brickMin, brickMax) cover the grid frame.
     const Vec3i& brickMin() const { return brickMin_; }

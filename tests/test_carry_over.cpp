@@ -1,6 +1,8 @@
 // Predictions that carry over (api/predictor.h, CarryOver): after label
 // changes, the kept samples of voxels whose paths read no relabelled voxel
-// and no brick whose bounds changed stay as they are and the others are traced again, so every prediction
+// in a way the new label contradicts (a real collision, or a null collision
+// the new extinction would have made real) and no brick whose bounds
+// changed stay as they are and the others are traced again, so every prediction
 // holds the bits of a render of all its samples in one go; the reported
 // errors stay honest as the samples accumulate over a loop; settings and
 // whole grids start afresh.

@@ -93,7 +93,8 @@ namespace pl {
 namespace {
 
 // Updating the bricks of relabelled voxels gives what a full build of the
-// relabelled grid gives: bounds, sole labels, global maximum.
+// relabelled grid gives: bounds, sole labels, global maximum; or, with
+// majorants that only rise, the larger of the majorants before and after.
 TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
     const Vec3i res{45, 37, 29};  // not a multiple of the brick size
     LabelGrid grid = test::boxGrid(res, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(v.x < 20 ? 4 : 1); });
@@ -120,7 +121,10 @@ TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
                 voxels.push_back({x, y, z});
             }
     LabelGrid next = grid.withChanges(changes);
+    const MajorantGrid before = maj;
+    MajorantGrid rising = maj;
     maj.update(next, luts, voxels);
+    rising.update(next, luts, voxels, true);
     MajorantGrid full(next, luts);
     for (int bz = full.brickMin().z; bz < full.brickMax().z; ++bz)
         for (int by = full.brickMin().y; by < full.brickMax().y; ++by)
@@ -129,7 +133,11 @@ TEST(MajorantGrid, UpdateOfChangedVoxelsEqualsAFullBuild) {
                 for (int c = 0; c < 3; ++c) {
                     EXPECT_EQ(maj.maxSigmaT(b, c), full.maxSigmaT(b, c));
                     EXPECT_EQ(maj.minSigmaT(b, c), full.minSigmaT(b, c));
+                    // Majorants that only rise: the larger of before and now.
+                    EXPECT_EQ(rising.maxSigmaT(b, c), std::max(before.maxSigmaT(b, c), full.maxSigmaT(b, c)));
+                    EXPECT_EQ(rising.minSigmaT(b, c), full.minSigmaT(b, c));
                 }
+                EXPECT_EQ(rising.soleLabel(b), full.soleLabel(b));
                 EXPECT_EQ(maj.soleLabel(b), full.soleLabel(b)) << bx << " " << by << " " << bz;
                 EXPECT_EQ(maj.solidLabel(b), full.solidLabel(b)) << bx << " " << by << " " << bz;
             }
