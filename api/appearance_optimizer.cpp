@@ -6,11 +6,13 @@
 #include <cmath>
 #include <deque>
 #include <numeric>
+#include <optional>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
 
 #include "compare/colour_difference.h"
+#include "compare/footprint_sample.h"
 #include "compare/surface_colour_error.h"
 #include "media/label_grid.h"
 #include "media/voxel_int_grid.h"
@@ -132,27 +134,74 @@ std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std:
     return out;
 }
 
+// The sampled footprints' scores into j: per footprint the halves' mean
+// against the mapped target (and its centre voxel's own), its noise and
+// the squared error without it; their means over the footprints estimate
+// the whole surface's, with 95 % intervals.
+void judgeSampledFootprints(const FootprintSample& sample, const std::array<std::vector<RGB>, 2>& halves,
+                            const std::vector<RGB>& mapped, const std::vector<RGB>& mappedSampled,
+                            OptimizeJudgement& j) {
+    const std::vector<RGB> a = sample.apply(halves[0]), b = sample.apply(halves[1]);
+    const size_t m = sample.size();
+    std::vector<double> error(m), noise(m), square(m), centreError(m), centreNoise(m);
+    for (size_t k = 0; k < m; ++k) {
+        const FootprintError e = footprintError(a[k], b[k], mappedSampled[k]);
+        error[k] = e.deltaE;
+        noise[k] = e.noiseDeltaE;
+        square[k] = e.squareNoiseRemoved;
+        const uint32_t c = sample.centres()[k];
+        const FootprintError own = footprintError(halves[0][c], halves[1][c], mapped[c]);
+        centreError[k] = own.deltaE;
+        centreNoise[k] = own.noiseDeltaE;
+    }
+    auto p95 = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v.empty() ? 0.0 : v[std::min(v.size() - 1, size_t(0.95 * double(v.size())))];
+    };
+    const SampledMean filtered = stratifiedMean(error), squares = stratifiedMean(square);
+    j.meanDeltaEFiltered = filtered.mean;
+    j.meanDeltaEFilteredHalfWidth95 = filtered.halfWidth95;
+    j.p95DeltaEFiltered = p95(error);
+    j.meanDeltaE = stratifiedMean(centreError).mean;
+    j.p95DeltaE = p95(centreError);
+    j.noiseDeltaE = stratifiedMean(centreNoise).mean;
+    j.noiseDeltaEFiltered = stratifiedMean(noise).mean;
+    j.rmsDeltaEFilteredNoiseRemoved = std::sqrt(std::max(0.0, squares.mean));
+    j.rmsLow95 = std::sqrt(std::max(0.0, squares.mean - squares.halfWidth95));
+    j.rmsHigh95 = std::sqrt(std::max(0.0, squares.mean + squares.halfWidth95));
+}
+
 // The judge: the printed labels rendered apart from the loop in two
 // independent halves, in rounds (seeds judgeSeed + 0, 1, 2, ...) until the
 // noise over the footprint is under the wanted level; each round asks for
 // the samples that the noise's fall as the root of the samples says are
-// missing, a fifth more.
+// missing, a fifth more. Every surface voxel, or (judgeFootprints) only
+// the neighbourhoods of a stratified random sample of footprints, whose
+// mean error estimates the whole surface's with a 95 % interval.
 OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& settings, const std::string& integrator,
                              const SurfaceGaussian& eye, const std::vector<RGB>& mapped, const RGB& environment) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool fixed = settings.judgeSpp > 0;
     const uint32_t mostPerHalf = std::max(1u, (fixed ? settings.judgeSpp : settings.judgeMostSpp) / 2);
     predictor.settings().integrator = integrator;
+    std::optional<FootprintSample> sample;
+    std::vector<RGB> mappedSampled;
+    if (settings.judgeFootprints > 0) {
+        sample.emplace(predictor.surfacePoints_mm(), kEyeFootprint_mm, settings.judgeFootprints, settings.judgeSeed);
+        mappedSampled = sample->apply(mapped);
+    }
     std::array<std::vector<RGB>, 2> sum;  // radiance times samples, per half
     uint32_t perHalf = 0, next = fixed ? mostPerHalf : std::min(4u, mostPerHalf);
     OptimizeJudgement j;
     j.integrator = integrator;
     j.seed = settings.judgeSeed;
+    j.footprints = sample ? sample->size() : 0;
+    j.renderedVoxels = sample ? sample->points().size() : predictor.surfaceVoxelCount();
     for (;;) {
         for (int half = 0; half < 2; ++half) {
             predictor.settings().spp = next;
             predictor.settings().seed = settings.judgeSeed + uint64_t(2 * j.rounds + half);
-            const SurfacePrediction p = predictor.predict();
+            const SurfacePrediction p = sample ? predictor.predictVoxels(sample->points()) : predictor.predict();
             sum[half].resize(p.radiance.size(), RGB{0, 0, 0});
             for (size_t i = 0; i < p.radiance.size(); ++i)
                 for (int c = 0; c < 3; ++c) sum[half][i][c] += float(next) * p.radiance[i][c];
@@ -165,23 +214,29 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
             for (RGB& x : halves[half])
                 for (float& v : x) v /= float(perHalf);
         }
-        const SplitRenderError e = splitRenderError(eye, halves[0], halves[1], mapped);
-        const double noise = e.noise.meanFiltered;
-        if (fixed || noise <= settings.judgeNoiseDeltaE || perHalf >= mostPerHalf) {
+        const bool last = [&] {
+            if (sample) {
+                judgeSampledFootprints(*sample, halves, mapped, mappedSampled, j);
+            } else {
+                const SplitRenderError e = splitRenderError(eye, halves[0], halves[1], mapped);
+                j.meanDeltaE = e.error.mean;
+                j.p95DeltaE = e.error.p95;
+                j.meanDeltaEFiltered = e.error.meanFiltered;
+                j.p95DeltaEFiltered = e.error.p95Filtered;
+                j.noiseDeltaE = e.noise.mean;
+                j.noiseDeltaEFiltered = e.noise.meanFiltered;
+                j.rmsDeltaEFilteredNoiseRemoved = e.rmsFilteredNoiseRemoved;
+                j.judgedSeen = e.meanSeen;
+                j.deltaESeen = e.deltaESeen;
+            }
+            return fixed || j.noiseDeltaEFiltered <= settings.judgeNoiseDeltaE || perHalf >= mostPerHalf;
+        }();
+        if (last) {
             j.spp = 2 * perHalf;
-            j.meanDeltaE = e.error.mean;
-            j.p95DeltaE = e.error.p95;
-            j.meanDeltaEFiltered = e.error.meanFiltered;
-            j.p95DeltaEFiltered = e.error.p95Filtered;
-            j.noiseDeltaE = e.noise.mean;
-            j.noiseDeltaEFiltered = noise;
-            j.rmsDeltaEFilteredNoiseRemoved = e.rmsFilteredNoiseRemoved;
-            j.judgedSeen = e.meanSeen;
-            j.deltaESeen = e.deltaESeen;
             j.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
             return j;
         }
-        const double wanted = std::ceil(1.2 * perHalf * std::pow(noise / settings.judgeNoiseDeltaE, 2));
+        const double wanted = std::ceil(1.2 * perHalf * std::pow(j.noiseDeltaEFiltered / settings.judgeNoiseDeltaE, 2));
         next = uint32_t(std::min<double>(wanted, mostPerHalf)) - perHalf;
         next = std::max(next, 1u);
     }
@@ -528,6 +583,13 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.mapped, environment);
     }
     return result;
+}
+
+OptimizeJudgement judgeLabels(Predictor& predictor, const OptimizeSettings& settings, const std::vector<RGB>& mapped) {
+    const std::string integrator =
+        settings.judgeIntegrator.empty() ? predictor.settings().integrator : settings.judgeIntegrator;
+    const SurfaceGaussian eye(predictor.surfacePoints_mm(), kEyeFootprint_mm);
+    return judgePrint(predictor, settings, integrator, eye, mapped, predictor.environment());
 }
 
 }  // namespace pl

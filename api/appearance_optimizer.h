@@ -87,7 +87,13 @@ struct OptimizeSettings {
     // splitRenderError). judgeSpp > 0: that many samples in all; 0: rounds
     // until the noise over the footprint is under judgeNoiseDeltaE, at
     // most judgeMostSpp. The predictor must have loaded what the judge needs.
+    // judgeFootprints > 0: only that many of the eye's footprints, a
+    // stratified random sample (compare/footprint_sample.h), each rendered
+    // with its whole neighbourhood; the means over them estimate the whole
+    // surface's, with 95 % intervals. 0: every surface voxel (and the
+    // judged colours on the model).
     bool judge = false;
+    size_t judgeFootprints = 64;
     std::string judgeIntegrator;
     uint32_t judgeSpp = 0;
     double judgeNoiseDeltaE = 0.5;
@@ -124,8 +130,14 @@ struct OptimizeJudgement {
     uint32_t spp = 0;  // in all, the two halves together
     int rounds = 0;
     uint64_t seed = 0;
+    size_t footprints = 0;      // sampled footprints (0: the whole surface)
+    size_t renderedVoxels = 0;  // the surface voxels it rendered
     double meanDeltaE = 0, p95DeltaE = 0;                  // CIEDE2000 per voxel
     double meanDeltaEFiltered = 0, p95DeltaEFiltered = 0;  // over the eye's footprint
+    // With sampled footprints: the 95 % interval of the whole surface's
+    // mean over the footprint (mean +- half width), and of the root mean
+    // square below.
+    double meanDeltaEFilteredHalfWidth95 = 0, rmsLow95 = 0, rmsHigh95 = 0;
     // The mean CIEDE2000 the judge's own noise makes, per voxel and over
     // the footprint (part of the errors above).
     double noiseDeltaE = 0, noiseDeltaEFiltered = 0;
@@ -133,9 +145,10 @@ struct OptimizeJudgement {
     // taken out (at least the mean it would have without noise).
     double rmsDeltaEFilteredNoiseRemoved = 0;
     double seconds = 0;
-    // Per surface voxel over the eye's footprint: the judged colours and
-    // their CIEDE2000 from the mapped targets (what the print shows, with
-    // the judge's small noise rather than the loop's).
+    // Per surface voxel over the eye's footprint (the whole surface's
+    // judge only): the judged colours and their CIEDE2000 from the mapped
+    // targets (what the print shows, with the judge's small noise rather
+    // than the loop's).
     std::vector<RGB> judgedSeen;
     std::vector<float> deltaESeen;
 };
@@ -157,6 +170,11 @@ struct OptimizeResult {
     // in order (bench --loop replays them).
     std::vector<std::vector<LabelGrid::Change>> changes;
 };
+
+// The judge alone (settings' judge fields, its integrator the predictor's
+// if none): the predictor's labels against `mapped` (reflectance per
+// surface voxel). The predictor's settings are left as the judge set them.
+OptimizeJudgement judgeLabels(Predictor& predictor, const OptimizeSettings& settings, const std::vector<RGB>& mapped);
 
 // targets: per surface voxel in the predictor's order. The predictor ends
 // holding the best labels, its settings as they were. onIteration is called

@@ -389,6 +389,19 @@ SurfacePrediction Predictor::predict() {
         pendingUpdateSeconds_ = 0;
         return p;
     }
+    return predictAfresh(rs, nullptr);
+}
+
+SurfacePrediction Predictor::predictVoxels(const std::vector<uint32_t>& voxels) {
+    const size_t n = surfaceVoxelCount();
+    for (uint32_t v : voxels)
+        if (v >= n) throw std::out_of_range("predictVoxels: voxel " + std::to_string(v) + " of " + std::to_string(n));
+    RenderSettings rs = settings_;
+    rs.showProgress = false;
+    return predictAfresh(rs, &voxels);
+}
+
+SurfacePrediction Predictor::predictAfresh(const RenderSettings& rs, const std::vector<uint32_t>* voxels) {
     carried_.reset();
     running_.reset();
     const Sensor& sensor = *state_->sensor;
@@ -400,7 +413,9 @@ SurfacePrediction Predictor::predict() {
     RenderRounds rounds(state_->scene, sensor, rs, acrossRanks_, true, controlMeans_);
     RenderResult& r = rounds.result();
     r.seconds += secondsSince(t0);
-    if (!adaptive_.enabled) {
+    if (voxels) {
+        rounds.render(voxels, 0, rs.spp);
+    } else if (!adaptive_.enabled) {
         rounds.render(nullptr, 0, rs.spp);
     } else {
         const AdaptiveSampling& a = adaptive_;

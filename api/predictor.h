@@ -64,10 +64,11 @@ struct AdaptiveSampling {
 //    current labels and, only if it read a change, with the labels of the
 //    last prediction, with the same random numbers (integrators/
 //    coupled_samples.h); per voxel and channel X = w X_before + (1 - w) F
-//    + w D, F the samples' mean and D their differences', with variance at
-//    most w^2 V_before + ((1 - w) se_F + w se_D)^2 (both errors pooled by
-//    the film); w is chosen before the samples, from the last prediction's
-//    errors, as that bound's minimum. Unbiased for a fixed w; w follows
+//    + w D, F the samples' mean and D their differences', with variance
+//    w^2 V_before plus the squared error of the samples f - w h (measured
+//    on them, pooled by the film); w is chosen before the samples, from
+//    the last prediction's errors. Its majorants only rise meanwhile
+//    (MajorantGrid::update). Unbiased for a fixed w; w follows
 //    the last errors, which move a little with the estimate, so a small
 //    bias is possible (none seen against references: docs/api.md). A
 //    prediction with the last one's seed starts afresh.
@@ -103,6 +104,11 @@ public:
 
     // Renders the current labels. Same labels and seed, same bits.
     SurfacePrediction predict();
+    // These surface voxels only (indices into predict()'s order), with
+    // settings().spp samples each, afresh (no adaptive sampling, nothing
+    // carried over); the others have no samples (radiance and error 0).
+    // A judge of sampled footprints renders their neighbourhoods so.
+    SurfacePrediction predictVoxels(const std::vector<uint32_t>& voxels);
 
     // Across MPI ranks (runtime/distributed.h): each rank renders its share
     // of every prediction and all receive the whole, with the bits of one
@@ -134,6 +140,8 @@ private:
     // predict() with the samples carried over (CarryOver), into p.
     void predictCarryingOver(const RenderSettings& rs, SurfacePrediction& p);
     void predictByControlVariates(const RenderSettings& rs, SurfacePrediction& p);
+    // A prediction of all voxels (none: adaptive if asked) or these, afresh.
+    SurfacePrediction predictAfresh(const RenderSettings& rs, const std::vector<uint32_t>* voxels);
 
     struct State;
     std::unique_ptr<State> state_;

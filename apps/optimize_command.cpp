@@ -118,6 +118,7 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         os.judgeNoiseDeltaE = *x;
     }
     os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
+    os.judgeFootprints = size_t(args.integer("--judge-footprints", 0, 1 << 24).value_or(int64_t(os.judgeFootprints)));
     return os;
 }
 
@@ -176,7 +177,18 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
         std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
                     "like with like)\n",
                     its.front().predictor.c_str(), its.back().predictor.c_str());
-    if (const auto& j = result.judgement) {
+    if (const auto& j = result.judgement; j && j->footprints > 0) {
+        std::printf("judged apart on %zu footprints sampled over the surface (%s, %zu voxels, %u spp in %d round%s, "
+                    "seed %llu, %.1f s): loop error (mapped target -> print) over the eye's %g mm footprint %.3f +- "
+                    "%.3f (95 %% interval of the whole surface's mean), 95th percentile %.3f\n",
+                    j->footprints, j->integrator.c_str(), j->renderedVoxels, j->spp, j->rounds,
+                    j->rounds > 1 ? "s" : "", (unsigned long long)j->seed, j->seconds, kEyeFootprint_mm,
+                    j->meanDeltaEFiltered, j->meanDeltaEFilteredHalfWidth95, j->p95DeltaEFiltered);
+        std::printf("the judge's own noise (its two halves' disagreement): %.2f CIEDE2000 over the footprint; with it "
+                    "taken out, the loop error's root mean square over the footprint is %.3f (95 %% interval %.3f to "
+                    "%.3f)\n",
+                    j->noiseDeltaEFiltered, j->rmsDeltaEFilteredNoiseRemoved, j->rmsLow95, j->rmsHigh95);
+    } else if (j) {
         std::printf("judged apart (%s, %u spp in %d round%s, seed %llu, %.1f s): loop error (mapped target -> print) "
                     "over the eye's %g mm footprint %.3f, 95th percentile %.3f; per voxel %.3f, 95th percentile %.3f\n",
                     j->integrator.c_str(), j->spp, j->rounds, j->rounds > 1 ? "s" : "", (unsigned long long)j->seed,
@@ -223,8 +235,10 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
     // The judge's colours when there is one: its noise is far below the
     // loop's.
     const auto& judgement = result.judgement;
-    writePredictionGlb(mesh, frame, voxels, judgement ? judgement->judgedSeen : result.predictedSeen, predictionGlb);
-    const std::vector<float>& deltaESeen = judgement ? judgement->deltaESeen : result.deltaESeen;
+    const bool judgedEverywhere = judgement && judgement->footprints == 0;
+    writePredictionGlb(mesh, frame, voxels, judgedEverywhere ? judgement->judgedSeen : result.predictedSeen,
+                       predictionGlb);
+    const std::vector<float>& deltaESeen = judgedEverywhere ? judgement->deltaESeen : result.deltaESeen;
     std::vector<RGB> errorColors(deltaESeen.size());
     for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
     writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
@@ -240,7 +254,17 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
                   kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
                   predictor.settings().integrator.c_str(), predictor.settings().spp);
     std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
-    if (judgement) {
+    if (judgement && !judgedEverywhere) {
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      " Judged apart on %zu footprints sampled over the surface (%s, %u spp): loop error %.2f +- %.2f "
+                      "(95 %% interval), its noise %.2f (%.2f root mean square with the noise taken out); the "
+                      "prediction and error views are the loop's best prediction, its noise included.",
+                      judgement->footprints, judgement->integrator.c_str(), judgement->spp,
+                      judgement->meanDeltaEFiltered, judgement->meanDeltaEFilteredHalfWidth95,
+                      judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
+        judged = text;
+    } else if (judgement) {
         char text[240];
         std::snprintf(text, sizeof text,
                       " Judged apart (%s, %u spp): loop error %.2f, its noise %.2f (%.2f root mean square with the noise "
@@ -294,6 +318,10 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                      "scores them (default: until its noise is under --judge-noise, at most 256; 0: no judge)"},
                     {"--judge-noise", "DE", "the judge's noise wanted over the footprint (CIEDE2000, default 0.5)"},
                     {"--judge-seed", "S", "the judge's seed (default 99)"},
+                    {"--judge-footprints", "N",
+                     "judge only N of the eye's footprints, a stratified random sample, each with its whole "
+                     "neighbourhood, and estimate the whole surface's mean error with a 95 % interval (default 64; 0: "
+                     "every surface voxel, and the judged colours on the model)"},
                     {"--update-footprint-mm", "S",
                      "average each iteration's error with a Gaussian of this sigma on the surface (default 0.2, the "
                      "eye's footprint; 0: per voxel)"},

@@ -94,6 +94,21 @@ SurfaceColourError noiseColourError(const SurfaceGaussian& footprint, const std:
     return surfaceColourError(footprint, moved, colours);
 }
 
+namespace {
+// (q(dA + dB) - q(dA - dB)) / 4 in CIELAB, q the squared CIEDE2000 from
+// the reference (splitRenderError).
+double squareNoiseRemoved(const RGB& halfA, const RGB& halfB, const RGB& reference) {
+    const Lab r = labFromLinearSrgb(reference), a = labFromLinearSrgb(halfA), b = labFromLinearSrgb(halfB);
+    const double dA[3] = {a.L - r.L, a.a - r.a, a.b - r.b}, dB[3] = {b.L - r.L, b.a - r.a, b.b - r.b};
+    auto q = [&](double sign) {
+        const Lab x{float(r.L + dA[0] + sign * dB[0]), float(r.a + dA[1] + sign * dB[1]), float(r.b + dA[2] + sign * dB[2])};
+        const double e = ciede2000(r, x);
+        return e * e;
+    };
+    return 0.25 * (q(1) - q(-1));
+}
+}  // namespace
+
 SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::vector<RGB>& halfA,
                                   const std::vector<RGB>& halfB, const std::vector<RGB>& reference) {
     const size_t n = reference.size();
@@ -111,19 +126,17 @@ SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::v
     out.error = errorOf(deltaEs(mean, reference), out.deltaESeen);
     out.noise = errorOf(deltaEs(halfA, mean), deltaEs(seen[0], out.meanSeen));
     double sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const Lab r = labFromLinearSrgb(seen[2][i]), a = labFromLinearSrgb(seen[0][i]), b = labFromLinearSrgb(seen[1][i]);
-        const double dA[3] = {a.L - r.L, a.a - r.a, a.b - r.b}, dB[3] = {b.L - r.L, b.a - r.a, b.b - r.b};
-        auto q = [&](double sign) {
-            const Lab x{float(r.L + dA[0] + sign * dB[0]), float(r.a + dA[1] + sign * dB[1]),
-                        float(r.b + dA[2] + sign * dB[2])};
-            const double e = ciede2000(r, x);
-            return e * e;
-        };
-        sum += 0.25 * (q(1) - q(-1));
-    }
+    for (size_t i = 0; i < n; ++i) sum += squareNoiseRemoved(seen[0][i], seen[1][i], seen[2][i]);
     out.rmsFilteredNoiseRemoved = std::sqrt(std::max(0.0, sum / double(std::max<size_t>(n, 1))));
     return out;
+}
+
+FootprintError footprintError(const RGB& a, const RGB& b, const RGB& reference) {
+    RGB mean;
+    for (int c = 0; c < 3; ++c) mean[c] = 0.5f * (a[c] + b[c]);
+    const Lab m = labFromLinearSrgb(mean);
+    return {ciede2000(labFromLinearSrgb(reference), m), ciede2000(labFromLinearSrgb(a), m),
+            squareNoiseRemoved(a, b, reference)};
 }
 
 }  // namespace pl

@@ -78,6 +78,15 @@ struct SplitRenderError {
 SplitRenderError splitRenderError(const SurfaceGaussian& footprint, const std::vector<RGB>& halfA,
                                   const std::vector<RGB>& halfB, const std::vector<RGB>& reference);
 
+// One footprint judged from two halves' colours a, b against the
+// reference (as splitRenderError does for every voxel): CIEDE2000 of
+// their mean, of its noise (half their difference), and q, the polarised
+// cross term whose mean is the squared error without the noise.
+struct FootprintError {
+    double deltaE = 0, noiseDeltaE = 0, squareNoiseRemoved = 0;
+};
+FootprintError footprintError(const RGB& a, const RGB& b, const RGB& reference);
+
 // A colour for a CIEDE2000 value (linear RGB): blue 0, green 2.5, yellow
 // 5, red 10 and above.
 RGB deltaEColour(float deltaE);

@@ -1042,15 +1042,25 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
         }
     }
     EXPECT_NE(r.out.find("mapping loss"), std::string::npos) << r.out;
-    // The judge by default: rounds until its noise over the footprint is
-    // under 0.5, or its most samples.
+    // The judge by default: 64 sampled footprints, in rounds until its
+    // noise over the footprint is under 0.5, or its most samples; the mean
+    // error with its 95 % interval.
     const size_t judgeAt = r.out.find("the judge's own noise (its two halves' disagreement): ");
     ASSERT_NE(judgeAt, std::string::npos) << r.out;
-    double judgeNoise = 0;
+    double judgeNoise = 0, judged = 0, halfWidth = 0;
     unsigned judgeSpp = 0;
+    size_t rendered = 0;
     ASSERT_EQ(std::sscanf(r.out.c_str() + judgeAt + 54, "%lf", &judgeNoise), 1) << r.out;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("judged apart (volpath, ") + 23, "%u", &judgeSpp), 1) << r.out;
+    const size_t sampledAt = r.out.find("judged apart on 64 footprints sampled over the surface (volpath, ");
+    ASSERT_NE(sampledAt, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + sampledAt + 66, "%zu voxels, %u spp", &rendered, &judgeSpp), 2) << r.out;
     EXPECT_TRUE(judgeNoise <= 0.5 || judgeSpp >= 256) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("0.2 mm footprint ", sampledAt) + 17, "%lf +- %lf", &judged,
+                          &halfWidth),
+              2)
+        << r.out;
+    EXPECT_GT(halfWidth, 0.0) << r.out;
+    EXPECT_LT(judged, 0.6 * rows[0][1]) << r.out;
     LabelGrid labels = loadLabelGrid(prefix.string() + "_labels.vdb", std::nullopt);
     EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
     EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
@@ -1127,7 +1137,8 @@ TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
     TestScene s("optimize_auto");
     fs::path prefix = s.dir / "out" / "opt";
     CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
-                              " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 -o " + prefix.string(),
+                              " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 --judge-footprints 0 -o " +
+                                  prefix.string(),
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto cells = readCsvCells(prefix.string() + ".csv");
