@@ -143,7 +143,8 @@ void judgeSampledFootprints(const FootprintSample& sample, const std::array<std:
                             OptimizeJudgement& j) {
     const std::vector<RGB> a = sample.apply(halves[0]), b = sample.apply(halves[1]);
     const size_t m = sample.size();
-    std::vector<double> error(m), noise(m), square(m), centreError(m), centreNoise(m);
+    std::vector<double> error(m), noise(m), square(m);
+    std::vector<float> centreError(m), centreNoise(m);
     for (size_t k = 0; k < m; ++k) {
         const FootprintError e = footprintError(a[k], b[k], mappedSampled[k]);
         error[k] = e.deltaE;
@@ -151,20 +152,17 @@ void judgeSampledFootprints(const FootprintSample& sample, const std::array<std:
         square[k] = e.squareNoiseRemoved;
         const uint32_t c = sample.centres()[k];
         const FootprintError own = footprintError(halves[0][c], halves[1][c], mapped[c]);
-        centreError[k] = own.deltaE;
-        centreNoise[k] = own.noiseDeltaE;
+        centreError[k] = float(own.deltaE);
+        centreNoise[k] = float(own.noiseDeltaE);
     }
-    auto p95 = [](std::vector<double> v) {
-        std::sort(v.begin(), v.end());
-        return v.empty() ? 0.0 : v[std::min(v.size() - 1, size_t(0.95 * double(v.size())))];
-    };
     const SampledMean filtered = stratifiedMean(error), squares = stratifiedMean(square);
+    const DeltaEStats perVoxel = meanAndP95(centreError);
     j.meanDeltaEFiltered = filtered.mean;
     j.meanDeltaEFilteredHalfWidth95 = filtered.halfWidth95;
-    j.p95DeltaEFiltered = p95(error);
-    j.meanDeltaE = stratifiedMean(centreError).mean;
-    j.p95DeltaE = p95(centreError);
-    j.noiseDeltaE = stratifiedMean(centreNoise).mean;
+    j.p95DeltaEFiltered = meanAndP95(std::vector<float>(error.begin(), error.end())).p95;
+    j.meanDeltaE = perVoxel.mean;
+    j.p95DeltaE = perVoxel.p95;
+    j.noiseDeltaE = meanAndP95(centreNoise).mean;
     j.noiseDeltaEFiltered = stratifiedMean(noise).mean;
     j.rmsDeltaEFilteredNoiseRemoved = std::sqrt(std::max(0.0, squares.mean));
     j.rmsLow95 = std::sqrt(std::max(0.0, squares.mean - squares.halfWidth95));
@@ -184,10 +182,12 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
     const bool fixed = settings.judgeSpp > 0;
     const uint32_t mostPerHalf = std::max(1u, (fixed ? settings.judgeSpp : settings.judgeMostSpp) / 2);
     predictor.settings().integrator = integrator;
+    predictor.carryOver().enabled = false;  // independent renders
     std::optional<FootprintSample> sample;
     std::vector<RGB> mappedSampled;
     if (settings.judgeFootprints > 0) {
-        sample.emplace(predictor.surfacePoints_mm(), kEyeFootprint_mm, settings.judgeFootprints, settings.judgeSeed);
+        sample.emplace(predictor.surfacePoints_mm(), eye, kEyeFootprint_mm, settings.judgeFootprints,
+                       settings.judgeSeed);
         mappedSampled = sample->apply(mapped);
     }
     std::array<std::vector<RGB>, 2> sum;  // radiance times samples, per half
@@ -407,6 +407,8 @@ public:
             outside_[i] = m.deltaEab > 1.0;
         });
     }
+    // Per voxel, whether its request after the last move lay outside the gamut.
+    const std::vector<uint8_t>& outside() const { return outside_; }
     // This iteration's requests that lay outside the gamut.
     double outsideShare() const {
         return double(std::count(outside_.begin(), outside_.end(), uint8_t(1))) / double(outside_.size());
@@ -529,6 +531,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             result.bestIteration = iteration;
             if (iteration > 0) bestLabels = predictor.labels().withChanges({});
             result.predictedSeen = now.overFootprint;
+            result.atPrintersLimit = steps.outside();  // the move that made these labels
         }
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
         const double elapsed = std::chrono::duration<double>(Clock::now() - loopStart).count();
@@ -578,7 +581,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     if (result.bestIteration != result.iterations.back().iteration)
         restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
-        predictor.carryOver().enabled = false;  // independent renders
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
         result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.mapped, environment);
     }

@@ -165,6 +165,10 @@ struct OptimizeResult {
     // last two.
     std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
     std::vector<float> deltaESeen;
+    // Per surface voxel: whether the request behind the best labels lay
+    // more than 1 Delta E*ab beyond the gamut (the print at the printer's
+    // limit there: its blur, its edges).
+    std::vector<uint8_t> atPrintersLimit;
     std::optional<OptimizeJudgement> judgement;  // with judge
     // With recordChanges: the changes after each prediction but the last,
     // in order (bench --loop replays them).

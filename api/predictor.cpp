@@ -118,6 +118,7 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
         if (changed) {  // majorants of the touched bricks only (that the running estimate lets only rise)
             state_->scene.medium =
                 std::make_unique<LabelMedium>(std::move(grid), *previous, *changed, running_ != nullptr);
+            majorantsRaised_ = majorantsRaised_ || running_ != nullptr;
         } else {
             auto next = std::make_unique<LabelMedium>(std::move(grid), previous->materials());
             next->setSurfaceFields(previous->surfaceFields());
@@ -136,7 +137,7 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
     // are checked against what changed at the next prediction.
     if (shapeChanged || !changed) {
         carried_.reset();
-        running_.reset();
+        dropRunningEstimate();
         pendingUpdateSeconds_ += secondsSince(t0);
         return;
     }
@@ -377,12 +378,12 @@ SurfacePrediction Predictor::predict() {
                 carried_.reset();
                 predictByControlVariates(rs, p);
             } else {
-                running_.reset();
+                dropRunningEstimate();
                 predictCarryingOver(rs, p);
             }
         } catch (...) {  // interrupted: what was half rendered does not carry over
             carried_.reset();
-            running_.reset();
+            dropRunningEstimate();
             throw;
         }
         p.updateSeconds = pendingUpdateSeconds_;
@@ -401,9 +402,19 @@ SurfacePrediction Predictor::predictVoxels(const std::vector<uint32_t>& voxels) 
     return predictAfresh(rs, &voxels);
 }
 
+void Predictor::dropRunningEstimate() {
+    running_.reset();
+    if (!majorantsRaised_) return;
+    // The exact majorants again: the bits of a predictor that never carried over.
+    auto exact = std::make_unique<LabelMedium>(labels().withChanges({}), state_->scene.medium->materials());
+    exact->setSurfaceFields(state_->scene.medium->surfaceFields());
+    state_->scene.medium = std::move(exact);
+    majorantsRaised_ = false;
+}
+
 SurfacePrediction Predictor::predictAfresh(const RenderSettings& rs, const std::vector<uint32_t>* voxels) {
     carried_.reset();
-    running_.reset();
+    dropRunningEstimate();
     const Sensor& sensor = *state_->sensor;
     // One integrator for all rounds: its census and means are made once.
     // Across ranks each renders its share of a round's pixels and every

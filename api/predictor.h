@@ -68,9 +68,10 @@ struct AdaptiveSampling {
 //    w^2 V_before plus the squared error of the samples f - w h (measured
 //    on them, pooled by the film); w is chosen before the samples, from
 //    the last prediction's errors. Its majorants only rise meanwhile
-//    (MajorantGrid::update). Unbiased for a fixed w; w follows
-//    the last errors, which move a little with the estimate, so a small
-//    bias is possible (none seen against references: docs/api.md). A
+//    (MajorantGrid::update; exact again once it is dropped). Unbiased for
+//    a fixed w; w follows the last errors, which move a little with the
+//    estimate, so a small bias is possible (none seen against references:
+//    docs/api.md). A
 //    prediction with the last one's seed starts afresh.
 // Both need an estimator that records footprints (volpath), per-brick
 // majorants, one process, no adaptive sampling and one pass per channel
@@ -152,6 +153,9 @@ private:
     std::unique_ptr<CarriedSamples> carried_;  // what the last prediction left; none: start afresh
     struct RunningEstimate;
     std::unique_ptr<RunningEstimate> running_;  // the same, for ControlVariates
+    bool majorantsRaised_ = false;              // by the running estimate (MajorantGrid::update)
+    // Drops the running estimate, and majorants it raised.
+    void dropRunningEstimate();
     bool acrossRanks_ = false;
     double pendingUpdateSeconds_ = 0;
     // printpt's Monte Carlo control means, kept across iterations (they

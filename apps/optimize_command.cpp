@@ -13,6 +13,7 @@
 
 #include "api/appearance_optimizer.h"
 #include "api/printer_characterisation.h"
+#include "compare/colour_difference.h"
 #include "compare/surface_colour_error.h"
 #include "render/registry.h"
 #include "apps/arguments.h"
@@ -119,6 +120,7 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
     }
     os.judgeSeed = uint64_t(args.integer("--judge-seed", 0, int64_t(1) << 62).value_or(int64_t(os.judgeSeed)));
     os.judgeFootprints = size_t(args.integer("--judge-footprints", 0, 1 << 24).value_or(int64_t(os.judgeFootprints)));
+    if (os.judgeFootprints == 1) throw UsageError("--judge-footprints must be 0 (the whole surface) or at least 2");
     return os;
 }
 
@@ -205,7 +207,7 @@ struct OptimizeOutputs {
     explicit OptimizeOutputs(const std::filesystem::path& prefix) : prefix(prefix) {}
     std::filesystem::path named(const char* suffix) const { return prefix.string() + suffix; }
     std::vector<std::filesystem::path> files() const {
-        return {csv, labels, targetGlb, mappedGlb, predictionGlb, errorGlb, report};
+        return {csv, labels, targetGlb, mappedGlb, predictionGlb, errorGlb, lossGlb, givenErrorGlb, limitGlb, report};
     }
     // The history, the best labels, the best iteration on the model as the
     // eye sees it (over its footprint: the target as given and as mapped,
@@ -216,7 +218,9 @@ struct OptimizeOutputs {
     const std::filesystem::path prefix;
     const std::filesystem::path csv = named(".csv"), labels = named("_labels.vdb"), targetGlb = named("_target.glb"),
                                 mappedGlb = named("_mapped.glb"), predictionGlb = named("_prediction.glb"),
-                                errorGlb = named("_error.glb"), report = named(".html");
+                                errorGlb = named("_error.glb"), lossGlb = named("_mapping_loss.glb"),
+                                givenErrorGlb = named("_error_from_given.glb"), limitGlb = named("_printers_limit.glb"),
+                                report = named(".html");
 };
 
 void OptimizeOutputs::write(const OptimizeResult& result, const std::string& history, const Predictor& predictor,
@@ -239,20 +243,43 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
     writePredictionGlb(mesh, frame, voxels, judgedEverywhere ? judgement->judgedSeen : result.predictedSeen,
                        predictionGlb);
     const std::vector<float>& deltaESeen = judgedEverywhere ? judgement->deltaESeen : result.deltaESeen;
-    std::vector<RGB> errorColors(deltaESeen.size());
-    for (size_t i = 0; i < errorColors.size(); ++i) errorColors[i] = deltaEColour(deltaESeen[i]);
+    // The three errors side by side: the mapping loss (the printer's
+    // gamut), the loop error (mapped target -> print) and the error from
+    // the target as given (what a print shop sees); and where the print is
+    // at the printer's limit (magenta; white elsewhere).
+    const std::vector<RGB>& printSeen = judgedEverywhere ? judgement->judgedSeen : result.predictedSeen;
+    const size_t n = deltaESeen.size();
+    std::vector<RGB> errorColors(n), lossColors(n), givenColors(n), limitColors(n);
+    double fromGiven = 0, atLimitShare = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const Lab given = labFromLinearSrgb(result.targetSeen[i]);
+        const double e = ciede2000(given, labFromLinearSrgb(printSeen[i]));
+        errorColors[i] = deltaEColour(deltaESeen[i]);
+        lossColors[i] = deltaEColour(float(ciede2000(given, labFromLinearSrgb(result.mappedSeen[i]))));
+        givenColors[i] = deltaEColour(float(e));
+        const bool atLimit = i < result.atPrintersLimit.size() && result.atPrintersLimit[i];
+        limitColors[i] = atLimit ? RGB{0.8f, 0.05f, 0.6f} : RGB{0.9f, 0.9f, 0.9f};
+        fromGiven += e / double(n);
+        atLimitShare += atLimit ? 1.0 / double(n) : 0.0;
+    }
     writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
+    writePredictionGlb(mesh, frame, voxels, lossColors, lossGlb);
+    writePredictionGlb(mesh, frame, voxels, givenColors, givenErrorGlb);
+    writePredictionGlb(mesh, frame, voxels, limitColors, limitGlb);
     const auto& its = result.iterations;
     const OptimizeIteration& best = its[size_t(result.bestIteration)];
     const SurfaceColourError& loss = result.mappingLoss;
     HtmlReport page;
     page.title = "printlight optimize: " + desc.sceneFile.filename().string();
-    char summary[400];
+    char summary[600];
     std::snprintf(summary, sizeof summary,
                   "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
-                  "(mapped target -> prediction, iteration %d; %s, %u spp).",
+                  "(mapped target -> prediction, iteration %d; %s, %u spp); from the target as given %.2f (what a "
+                  "print shop sees, the %s); at the printer's limit %.1f %% of the surface (its requests beyond the "
+                  "gamut).",
                   kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
-                  predictor.settings().integrator.c_str(), predictor.settings().spp);
+                  predictor.settings().integrator.c_str(), predictor.settings().spp, fromGiven,
+                  judgedEverywhere ? "judge's colours" : "loop's best prediction", 100.0 * atLimitShare);
     std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
     if (judgement && !judgedEverywhere) {
         char text[320];
@@ -274,12 +301,19 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
         judged = text;
     }
     page.summary = summary + judged + " Error map: blue 0, green 2.5, yellow 5, red 10 or more.";
-    page.models = {{"target", targetGlb}, {"target mapped", mappedGlb}, {"prediction", predictionGlb},
-                     {"CIEDE2000", errorGlb}};
+    page.models = {{"target", targetGlb},
+                   {"target mapped", mappedGlb},
+                   {"prediction", predictionGlb},
+                   {"CIEDE2000", errorGlb},
+                   {"mapping loss (CIEDE2000, given -> mapped)", lossGlb},
+                   {"from the target as given (CIEDE2000)", givenErrorGlb},
+                   {"at the printer's limit (magenta)", limitGlb}};
     for (const OptimizeIteration& it : its) page.history.push_back({double(it.iteration), it.meanDeltaE});
     page.historyLabel = "mean CIEDE2000 over the footprint";
     writeHtmlReport(page, report);
-    std::printf("wrote %s, %s, %s_{target,mapped,prediction,error}.glb and %s\n", csv.string().c_str(),
+    std::printf("wrote %s, %s, %s_{target,mapped,prediction,error,mapping_loss,error_from_given,printers_limit}.glb "
+                "and %s\n",
+                csv.string().c_str(),
                 labels.string().c_str(), prefix.string().c_str(), report.string().c_str());
 }
 

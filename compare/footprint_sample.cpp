@@ -2,7 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
+#include <limits>
 
 #include "compare/student_t.h"
 #include "core/rng.h"
@@ -24,14 +24,10 @@ uint64_t spreadBits(uint32_t v) {
 Vec3i cellOf(const Point3f& p, float cell_mm) {
     return {int(std::floor(p.x / cell_mm)), int(std::floor(p.y / cell_mm)), int(std::floor(p.z / cell_mm))};
 }
-
-uint64_t cellKey(const Vec3i& c) {
-    return (uint64_t(uint32_t(c.x) & 0x1fffff) << 42) | (uint64_t(uint32_t(c.y) & 0x1fffff) << 21) |
-           uint64_t(uint32_t(c.z) & 0x1fffff);
-}
 }  // namespace
 
-FootprintSample::FootprintSample(const std::vector<Point3f>& points_mm, float sigma_mm, size_t count, uint64_t seed) {
+FootprintSample::FootprintSample(const std::vector<Point3f>& points_mm, const SurfaceGaussian& eye, float sigma_mm,
+                                 size_t count, uint64_t seed) {
     const size_t n = points_mm.size();
     count = std::min(count, n);
     if (count == 0 || !(sigma_mm > 0)) return;
@@ -51,33 +47,8 @@ FootprintSample::FootprintSample(const std::vector<Point3f>& points_mm, float si
         const size_t begin = k * n / count, end = (k + 1) * n / count;
         const size_t pick = std::min(end - 1, begin + size_t(rng.uniform() * double(end - begin)));
         centres_.push_back(order[pick].second);
-    }
-    // Each centre's neighbours within 3 sigma, found through cells of 3 sigma.
-    const float reach_mm = 3.0f * sigma_mm;
-    std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
-    for (size_t i = 0; i < n; ++i) cells[cellKey(cellOf(points_mm[i], reach_mm))].push_back(uint32_t(i));
-    weights_.resize(count);
-    for (size_t k = 0; k < count; ++k) {
-        const Point3f& c = points_mm[centres_[k]];
-        const Vec3i at = cellOf(c, reach_mm);
-        double total = 0;
-        for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    auto found = cells.find(cellKey({at.x + dx, at.y + dy, at.z + dz}));
-                    if (found == cells.end()) continue;
-                    for (uint32_t j : found->second) {
-                        const Point3f& p = points_mm[j];
-                        const float d2 = (p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y) + (p.z - c.z) * (p.z - c.z);
-                        if (d2 > reach_mm * reach_mm) continue;
-                        const float w = std::exp(-d2 / (2 * sigma_mm * sigma_mm));
-                        weights_[k].push_back({j, w});
-                        total += w;
-                        points_.push_back(j);
-                    }
-                }
-        std::sort(weights_[k].begin(), weights_[k].end(), [](const Weight& a, const Weight& b) { return a.point < b.point; });
-        for (Weight& w : weights_[k]) w.weight = float(w.weight / total);
+        weights_.push_back(eye.footprintOf(order[pick].second));
+        for (const SurfaceGaussian::Weight& w : weights_.back()) points_.push_back(w.point);
     }
     std::sort(points_.begin(), points_.end());
     points_.erase(std::unique(points_.begin(), points_.end()), points_.end());
@@ -87,7 +58,7 @@ std::vector<RGB> FootprintSample::apply(const std::vector<RGB>& values) const {
     std::vector<RGB> out(centres_.size(), RGB{0, 0, 0});
     for (size_t k = 0; k < centres_.size(); ++k) {
         double sum[3] = {0, 0, 0};
-        for (const Weight& w : weights_[k])
+        for (const SurfaceGaussian::Weight& w : weights_[k])
             for (int c = 0; c < 3; ++c) sum[c] += double(w.weight) * values[w.point][c];
         for (int c = 0; c < 3; ++c) out[k][c] = float(sum[c]);
     }
@@ -100,21 +71,17 @@ SampledMean stratifiedMean(const std::vector<double>& values) {
     if (n == 0) return m;
     for (double v : values) m.mean += v;
     m.mean /= double(n);
-    if (n < 2) return m;
+    if (n < 2) {  // one stratum says nothing of the spread
+        m.halfWidth95 = std::numeric_limits<double>::infinity();
+        return m;
+    }
     // Pairs (0, 1), (2, 3), ...; an odd last stratum pairs with the one
     // before it, its half of that pair's difference counted.
     double sumSquares = 0;
     for (size_t k = 0; k + 1 < n; k += 2) sumSquares += (values[k] - values[k + 1]) * (values[k] - values[k + 1]);
     if (n % 2 == 1) sumSquares += 0.5 * (values[n - 1] - values[n - 2]) * (values[n - 1] - values[n - 2]);
     const double standardError = std::sqrt(sumSquares) / double(n);
-    const double pairs = double(n / 2);
-    // Student's t quantile for 95 % two-sided, by bisection on its tail.
-    double lo = 0, hi = 100;
-    for (int i = 0; i < 100; ++i) {
-        const double t = 0.5 * (lo + hi);
-        (studentTTwoSidedP(t, pairs) > 0.05 ? lo : hi) = t;
-    }
-    m.halfWidth95 = 0.5 * (lo + hi) * standardError;
+    m.halfWidth95 = studentTTwoSidedQuantile(0.05, double(n / 2)) * standardError;
     return m;
 }
 

@@ -10,18 +10,23 @@
 
 #include "core/rgb.h"
 #include "core/vecmath.h"
+#include "compare/surface_gaussian.h"
 
 namespace pl {
 
 class FootprintSample {
 public:
     // `count` centres (at most one per point), one drawn uniformly from
-    // each of `count` strata of equal size along a Morton order of the
-    // points (cells of sigma): spread over the surface, every point as
-    // likely a centre as any other (the same bits for the same seed).
-    FootprintSample(const std::vector<Point3f>& points_mm, float sigma_mm, size_t count, uint64_t seed);
+    // each of `count` strata of equal size (to a point) along a Morton
+    // order of the points (cells of the footprint's sigma): spread over the
+    // surface, every point (nearly) as likely a centre as any other; the
+    // same bits for the same seed. The footprints are `eye`'s, built on
+    // the same points.
+    FootprintSample(const std::vector<Point3f>& points_mm, const SurfaceGaussian& eye, float sigma_mm, size_t count,
+                    uint64_t seed);
 
     size_t size() const { return centres_.size(); }
+    // In the strata's order.
     const std::vector<uint32_t>& centres() const { return centres_; }
     // Every point some footprint weighs, sorted: what a judge renders.
     const std::vector<uint32_t>& points() const { return points_; }
@@ -30,12 +35,8 @@ public:
     std::vector<RGB> apply(const std::vector<RGB>& values) const;
 
 private:
-    struct Weight {
-        uint32_t point;
-        float weight;  // normalised over the footprint
-    };
     std::vector<uint32_t> centres_, points_;
-    std::vector<std::vector<Weight>> weights_;  // per centre
+    std::vector<std::vector<SurfaceGaussian::Weight>> weights_;  // per centre
 };
 
 // The mean of values drawn once per stratum (in the strata's order), as

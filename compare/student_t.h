@@ -45,6 +45,17 @@ inline double studentTTwoSidedP(double t, double nu) {
     return incompleteBeta(nu / 2, 0.5, nu / (nu + t * t));
 }
 
+// The t whose two-sided tail P(|T| >= t) is p, for nu degrees of freedom
+// (bisection on the tail).
+inline double studentTTwoSidedQuantile(double p, double nu) {
+    double lo = 0, hi = 1e3;
+    for (int i = 0; i < 100; ++i) {
+        const double t = 0.5 * (lo + hi);
+        (studentTTwoSidedP(t, nu) > p ? lo : hi) = t;
+    }
+    return 0.5 * (lo + hi);
+}
+
 // P(|Z| >= z) for a standard normal Z.
 inline double normalTwoSidedP(double z) { return std::erfc(std::abs(z) / std::sqrt(2.0)); }
 

@@ -9,8 +9,6 @@
 
 namespace pl {
 
-namespace {
-
 DeltaEStats meanAndP95(std::vector<float> values) {
     if (values.empty()) return {0, 0};
     double sum = 0;
@@ -19,6 +17,8 @@ DeltaEStats meanAndP95(std::vector<float> values) {
     std::nth_element(values.begin(), values.begin() + std::ptrdiff_t(k), values.end());
     return {sum / double(values.size()), values[k]};
 }
+
+namespace {
 
 std::vector<float> deltaEs(const std::vector<RGB>& a, const std::vector<RGB>& b) {
     std::vector<float> d(a.size());

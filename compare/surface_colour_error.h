@@ -29,6 +29,8 @@ struct DeltaEStats {
     double mean = 0, p95 = 0;
 };
 DeltaEStats deltaEStats(const std::vector<RGB>& a, const std::vector<RGB>& b);
+// The mean and 95th percentile of some values.
+DeltaEStats meanAndP95(std::vector<float> values);
 
 // predicted, reference: reflectance (linear sRGB, white 1) per voxel, at
 // points_mm.

@@ -61,7 +61,10 @@ SurfaceGaussian::SurfaceGaussian(const std::vector<Point3f>& points_mm, float si
             cellCoords.push_back(cellOf(points_mm[i]));
         }
         ++cells_.back().count;
+        cellOf_.push_back(uint32_t(cells_.size() - 1));
     }
+    placeOf_.resize(order_.size());
+    for (size_t k = 0; k < order_.size(); ++k) placeOf_[order_[k]] = uint32_t(k);
     for (size_t c = 0; c < cells_.size(); ++c) {
         int n = 0;
         for (int dz = -1; dz <= 1; ++dz)
@@ -114,6 +117,29 @@ std::vector<std::vector<RGB>> SurfaceGaussian::apply(const std::vector<const std
             }
         }
     });
+    return out;
+}
+
+std::vector<SurfaceGaussian::Weight> SurfaceGaussian::footprintOf(uint32_t point) const {
+    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
+    const ExpTable& expOf = expTable();
+    const uint32_t k = placeOf_[point];
+    const Point3f& x = sorted_mm_[k];
+    std::vector<Weight> out;
+    double weights = 0;
+    for (int32_t n : cells_[cellOf_[k]].neighbours) {
+        if (n < 0) continue;
+        const Cell& other = cells_[size_t(n)];
+        for (uint32_t j = other.first; j < other.first + other.count; ++j) {
+            const Vec3f d = sorted_mm_[j] - x;
+            const float dSq = dot(d, d);
+            if (dSq > reachSq) continue;
+            const float w = expOf(dSq * inverseTwoSigmaSq);
+            weights += w;
+            out.push_back({order_[j], w});
+        }
+    }
+    for (Weight& w : out) w.weight = float(w.weight / weights);
     return out;
 }
 

@@ -24,6 +24,13 @@ public:
     // The same for several lists of values at once (the weights are
     // computed once).
     std::vector<std::vector<RGB>> apply(const std::vector<const std::vector<RGB>*>& lists) const;
+    // One point's footprint: the points within 3 sigma and their weights,
+    // normalised (the weights apply() gives that point).
+    struct Weight {
+        uint32_t point;
+        float weight;
+    };
+    std::vector<Weight> footprintOf(uint32_t point) const;
 
 private:
     float sigma_mm_;
@@ -33,7 +40,9 @@ private:
         uint32_t first, count;                // into order_ / sorted_
         std::array<int32_t, 27> neighbours;  // cell indices, -1: empty
     };
-    std::vector<uint32_t> order_;  // point index, cell by cell
+    std::vector<uint32_t> order_;   // point index, cell by cell
+    std::vector<uint32_t> placeOf_;  // per point: its place in order_
+    std::vector<uint32_t> cellOf_;   // per place: its cell
     std::vector<Point3f> sorted_mm_;
     std::vector<Cell> cells_;
 };

@@ -9,7 +9,7 @@
 // render's; `differences` receives f - h (h: the previous labels'), and
 // `combined` (1 - w) f + w (f - h) = f - w h with the pixel's weight w
 // chosen before the samples: the new samples' share of the running
-// estimate w X + (1 - w) F + w D, whose spread it measures directly.
+// estimate w X_before + (1 - w) F + w D, whose spread it measures directly.
 #pragma once
 
 #include <cstdint>

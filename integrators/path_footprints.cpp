@@ -32,7 +32,7 @@ bool LabelChanges::metBy(const LabelReads& reads) const {
     if (empty()) return false;
     for (uint32_t b : reads.bricks)
         if (boundsChanged(b)) return true;
-    for (const LabelRead& r : reads.voxels)
+    for (const LabelRead& r : reads.labels)
         if (contradicts(r.voxel, r.channel, r.sameUpTo_perMm)) return true;
     return false;
 }
@@ -45,7 +45,7 @@ void PathFootprints::add(size_t pixel, LabelReads& reads) {
     bricks.shrink_to_fit();
     // One read per voxel and slot, holding the least bound.
     std::vector<Read>& held = reads_[pixel];
-    for (const LabelRead& r : reads.voxels) {
+    for (const LabelRead& r : reads.labels) {
         const uint32_t slot = r.sameUpTo_perMm < 0 ? kSlots - 1 : uint32_t(r.channel);
         held.push_back({uint32_t(r.voxel * kSlots + slot), r.sameUpTo_perMm});
     }

@@ -61,7 +61,7 @@ private:
     std::vector<uint8_t> boundsChanged_;
     std::vector<uint32_t> brick_;  // per brick: its changes in changed_, or kNone
     std::vector<BrickChanges> changed_;
-    std::array<std::array<float, 256>, 3> sigmaT_perMm_{};  // per channel and label
+    std::array<decltype(ChannelLut::sigmaT_perMm), 3> sigmaT_perMm_{};  // per channel and label
     bool anyBounds_ = false;
 };
 

@@ -54,7 +54,7 @@ LabelMedium::Tracker::~Tracker() = default;
 
 Label LabelMedium::Tracker::labelAt(const Vec3i& v) {
     if (!medium_.frame().contains(v)) return medium_.grid_.voidLabel();
-    if (reads_) reads_->voxels.push_back({medium_.majorants_.voxelKey(v)});
+    if (reads_) reads_->labels.push_back({medium_.majorants_.voxelKey(v)});
     return impl_->accessor.getValue(toCoord(v));
 }
 
@@ -78,11 +78,11 @@ struct RecordedEvents<DeltaEvents> {
     LabelReads& reads;
     PL_ALWAYS_INLINE float enter(const MajorantSegment& s) { return events.enter(s); }
     PL_ALWAYS_INLINE bool collides(float /*t*/, Label l, Rng& rng) {
-        if (events.everyCollisionReal) return true;  // no label was looked up
+        if (events.everyCollisionReal) return true;  // decided without the label: any relabelling meets the read
         const float threshold = rng.uniform() * events.sigmaMaj;
         if (threshold < events.lut.sigmaT_perMm[l]) return true;
-        reads.voxels.back().sameUpTo_perMm = threshold;
-        reads.voxels.back().channel = events.channel;
+        reads.labels.back().sameUpTo_perMm = threshold;
+        reads.labels.back().channel = events.channel;
         return false;
     }
     PL_ALWAYS_INLINE void leave(float t) { events.leave(t); }
@@ -110,7 +110,7 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
                                        });
         };
         auto recordedLabelAt = [&](const Vec3i& v) PL_ALWAYS_INLINE {
-            reads_->voxels.push_back({majorants.voxelKey(v)});
+            reads_->labels.push_back({majorants.voxelKey(v)});
             return acc.getValue(toCoord(v));
         };
         RecordedEvents<Events> recordedEvents{events, *reads_};

@@ -43,10 +43,10 @@ struct LabelRead {
 // order, with repeats.
 struct LabelReads {
     std::vector<uint32_t> bricks;
-    std::vector<LabelRead> voxels;
+    std::vector<LabelRead> labels;
     void clear() {
         bricks.clear();
-        voxels.clear();
+        labels.clear();
     }
 };
 

@@ -47,7 +47,13 @@ void MajorantGrid::update(const LabelGrid& grid, const std::array<ChannelLut, 3>
                 for (int xx = std::max(lo.x, b.x << kBrickLog2); xx < std::min(hi.x, (b.x + 1) << kBrickLog2); ++xx)
                     x.include(grid.label({xx, y, z}), luts, grid.voidLabel());
         if (majorantsOnlyRise)
-            for (int c = 0; c < 3; ++c) x.maxSigmaT[c] = std::max(x.maxSigmaT[c], bricks_[i].maxSigmaT[c]);
+            for (int c = 0; c < 3; ++c)
+                if (bricks_[i].maxSigmaT[c] > x.maxSigmaT[c]) {
+                    x.maxSigmaT[c] = bricks_[i].maxSigmaT[c];
+                    // Above the sole label's extinction, a tentative
+                    // collision is no longer always real.
+                    x.soleLabel = -1;
+                }
         bricks_[i] = x;
     }
     boundWholeGrid();

@@ -50,7 +50,8 @@ public:
     // construction; or, with `majorantsOnlyRise`, keeping each brick's
     // majorant where its labels now need less (still a bound, and the
     // same to free flights that crossed the brick before: a loop whose
-    // labels come and go stops changing its bricks' bounds).
+    // labels come and go stops changing its bricks' bounds; a brick so
+    // raised has no sole label, its collisions decided one by one).
     void update(const LabelGrid& grid, const std::array<ChannelLut, 3>& luts, const std::vector<Vec3i>& changed,
                 bool majorantsOnlyRise = false);
 

@@ -238,8 +238,18 @@ TEST(CarryOver, StartsAfreshOnANewGridOrOtherSettings) {
     EXPECT_TRUE(predictor->predict().startedAfresh);
     predictor->settings().seed += 1;
     EXPECT_FALSE(predictor->predict().startedAfresh);
+    // A black voxel raises its brick's majorant; put back, the running
+    // estimate keeps the majorant raised.
+    const Vec3i v{60, 0, 10};
+    predictor->changeLabels({{v, kBlack}});
+    predictor->settings().seed += 1;
+    EXPECT_FALSE(predictor->predict().startedAfresh);
+    predictor->changeLabels({{v, barLabel(v)}});
+    predictor->settings().seed += 1;
+    EXPECT_FALSE(predictor->predict().startedAfresh);
     EXPECT_TRUE(predictor->predict().startedAfresh);
-    // Off: a plain prediction, the bits of the predictor without carry-over.
+    // Off: a plain prediction, the bits of the predictor without carry-over
+    // (the exact majorants again).
     predictor->carryOver().enabled = false;
     const SurfacePrediction off = predictor->predict();
     auto plain = Predictor::fromSceneFile(scene);

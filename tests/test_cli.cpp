@@ -1051,9 +1051,12 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     unsigned judgeSpp = 0;
     size_t rendered = 0;
     ASSERT_EQ(std::sscanf(r.out.c_str() + judgeAt + 54, "%lf", &judgeNoise), 1) << r.out;
-    const size_t sampledAt = r.out.find("judged apart on 64 footprints sampled over the surface (volpath, ");
+    const std::string sampled = "judged apart on 64 footprints sampled over the surface (volpath, ";
+    const size_t sampledAt = r.out.find(sampled);
     ASSERT_NE(sampledAt, std::string::npos) << r.out;
-    ASSERT_EQ(std::sscanf(r.out.c_str() + sampledAt + 66, "%zu voxels, %u spp", &rendered, &judgeSpp), 2) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + sampledAt + sampled.size(), "%zu voxels, %u spp", &rendered, &judgeSpp), 2)
+        << r.out;
+    EXPECT_GT(rendered, 0u) << r.out;
     EXPECT_TRUE(judgeNoise <= 0.5 || judgeSpp >= 256) << r.out;
     ASSERT_EQ(std::sscanf(r.out.c_str() + r.out.find("0.2 mm footprint ", sampledAt) + 17, "%lf +- %lf", &judged,
                           &halfWidth),
@@ -1065,11 +1068,15 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     EXPECT_EQ(labels.frame().resolution, (Vec3i{20, 20, 20}));
     EXPECT_LT(labels.histogram()[4], 20u * 20 * 20);  // no longer all white
     // The best iteration on the model, and the page with the history.
-    for (const char* part : {"_target.glb", "_mapped.glb", "_prediction.glb", "_error.glb"})
+    for (const char* part : {"_target.glb", "_mapped.glb", "_prediction.glb", "_error.glb", "_mapping_loss.glb",
+                             "_error_from_given.glb", "_printers_limit.glb"})
         EXPECT_GT(fs::file_size(prefix.string() + part), 1000u) << part;
     const std::string page = readText(prefix.string() + ".html");
-    for (const char* label : {"\"target\"", "\"target mapped\"", "\"prediction\"", "\"CIEDE2000\""})
+    for (const char* label : {"\"target\"", "\"target mapped\"", "\"prediction\"", "\"CIEDE2000\"",
+                              "\"mapping loss (CIEDE2000, given -> mapped)\"", "\"from the target as given (CIEDE2000)\"",
+                              "\"at the printer's limit (magenta)\""})
         EXPECT_NE(page.find(label), std::string::npos) << label;
+    EXPECT_NE(page.find("from the target as given "), std::string::npos);
     EXPECT_NE(page.find("\"history\":[{\"iteration\":0.0"), std::string::npos);
     EXPECT_FALSE(fs::exists(s.dir / "cache" / "printlight"));  // the named characterisation, none made
     CliRun bad = printlight("optimize " + s.write().string() + " --target 2,0,0", s.dir);

@@ -58,17 +58,23 @@ TEST(FootprintSample, FootprintsAreTheEyesGaussianAtTheirCentresOnePerStratum) {
     std::vector<RGB> values(points.size());
     Rng rng(1, 2);
     for (RGB& v : values) v = {rng.uniform(), rng.uniform(), 10 * rng.uniform()};
-    const FootprintSample sample(points, kEyeFootprint_mm, 40, 7);
+    const SurfaceGaussian eye(points, kEyeFootprint_mm);
+    const FootprintSample sample(points, eye, kEyeFootprint_mm, 40, 7);
     ASSERT_EQ(sample.size(), 40u);
     EXPECT_EQ(std::set<uint32_t>(sample.centres().begin(), sample.centres().end()).size(), 40u);
-    const std::vector<RGB> whole = SurfaceGaussian(points, kEyeFootprint_mm).apply(values), sampled = sample.apply(values);
+    const std::vector<RGB> whole = eye.apply(values), sampled = sample.apply(values);
     for (size_t k = 0; k < sample.size(); ++k)
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(sampled[k][c], whole[sample.centres()[k]][c], 1e-4 * (1 + std::abs(whole[sample.centres()[k]][c])));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(sampled[k][c], whole[sample.centres()[k]][c], 1e-5 * (1 + std::abs(whole[sample.centres()[k]][c])));
     // Another seed, other centres; the same seed, the same.
-    EXPECT_NE(FootprintSample(points, kEyeFootprint_mm, 40, 8).centres(), sample.centres());
-    EXPECT_EQ(FootprintSample(points, kEyeFootprint_mm, 40, 7).centres(), sample.centres());
-    // Every point of every footprint is among the points to render.
+    EXPECT_NE(FootprintSample(points, eye, kEyeFootprint_mm, 40, 8).centres(), sample.centres());
+    EXPECT_EQ(FootprintSample(points, eye, kEyeFootprint_mm, 40, 7).centres(), sample.centres());
+    // Every point a footprint weighs is among the points to render: values
+    // elsewhere change nothing.
     EXPECT_LT(sample.points().size(), points.size());
+    std::vector<RGB> onlyRendered(points.size(), RGB{1e6f, 1e6f, 1e6f});
+    for (uint32_t i : sample.points()) onlyRendered[i] = values[i];
+    EXPECT_EQ(sample.apply(onlyRendered), sampled);
 }
 
 // Values with a print's structure (a gradient, edges, grain): over 400
@@ -84,14 +90,15 @@ TEST(FootprintSample, IntervalsCoverTheWholeSurfacesMeanAsOftenAsTheySay) {
         const bool edge = std::min({p.x, 6 - p.x, p.y, 3 - p.y, p.z, 1 - p.z}) < 0.2f && (p.z < 0.1f || p.z > 0.9f);
         values[i] = {float(p.x / 6 + (edge ? 1.5 : 0) + 0.5 * rng.uniform()), 0, 0};
     }
-    const std::vector<RGB> seen = SurfaceGaussian(points, kEyeFootprint_mm).apply(values);
+    const SurfaceGaussian eye(points, kEyeFootprint_mm);
+    const std::vector<RGB> seen = eye.apply(values);
     double wholeMean = 0;
     for (const RGB& v : seen) wholeMean += v[0];
     wholeMean /= double(seen.size());
     int covered = 0;
     double squareMiss = 0, halfWidths = 0;
     for (uint64_t seed = 0; seed < 400; ++seed) {
-        const FootprintSample sample(points, kEyeFootprint_mm, 30, seed);
+        const FootprintSample sample(points, eye, kEyeFootprint_mm, 30, seed);
         std::vector<double> x;
         for (const RGB& v : sample.apply(values)) x.push_back(v[0]);
         const SampledMean m = stratifiedMean(x);
