@@ -77,6 +77,22 @@ SurfaceGaussian::SurfaceGaussian(const std::vector<Point3f>& points_mm, float si
     }
 }
 
+template <class Visit>
+void SurfaceGaussian::forEachNeighbour(uint32_t place, const Cell& cell, Visit&& visit) const {
+    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
+    const ExpTable& expOf = expTable();
+    const Point3f& x = sorted_mm_[place];
+    for (int32_t n : cell.neighbours) {
+        if (n < 0) continue;
+        const Cell& other = cells_[size_t(n)];
+        for (uint32_t j = other.first; j < other.first + other.count; ++j) {
+            const Vec3f d = sorted_mm_[j] - x;
+            const float dSq = dot(d, d);
+            if (dSq <= reachSq) visit(j, expOf(dSq * inverseTwoSigmaSq));
+        }
+    }
+}
+
 std::vector<RGB> SurfaceGaussian::apply(const std::vector<RGB>& values) const {
     return std::move(apply(std::vector<const std::vector<RGB>*>{&values}).front());
 }
@@ -88,30 +104,19 @@ std::vector<std::vector<RGB>> SurfaceGaussian::apply(const std::vector<const std
     for (size_t k = 0; k < order_.size(); ++k)
         for (size_t l = 0; l < m; ++l) sortedValues[k * m + l] = (*lists[l])[order_[k]];
     std::vector<std::vector<RGB>> out(m, std::vector<RGB>(order_.size()));
-    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
-    const ExpTable& expOf = expTable();
     parallelForTiles(cells_.size(), 16, [&](size_t begin, size_t end) {
         std::vector<double> sum(3 * m);
         for (size_t c = begin; c < end; ++c) {
             const Cell& cell = cells_[c];
             for (uint32_t k = cell.first; k < cell.first + cell.count; ++k) {
-                const Point3f& x = sorted_mm_[k];
                 std::fill(sum.begin(), sum.end(), 0.0);
                 double weights = 0;
-                for (int32_t n : cell.neighbours) {
-                    if (n < 0) continue;
-                    const Cell& other = cells_[size_t(n)];
-                    for (uint32_t j = other.first; j < other.first + other.count; ++j) {
-                        const Vec3f d = sorted_mm_[j] - x;
-                        const float dSq = dot(d, d);
-                        if (dSq > reachSq) continue;
-                        const float w = expOf(dSq * inverseTwoSigmaSq);
-                        weights += w;
-                        const RGB* v = &sortedValues[size_t(j) * m];
-                        for (size_t l = 0; l < m; ++l)
-                            for (int ch = 0; ch < 3; ++ch) sum[3 * l + size_t(ch)] += w * v[l][size_t(ch)];
-                    }
-                }
+                forEachNeighbour(k, cell, [&](uint32_t j, float w) {
+                    weights += w;
+                    const RGB* v = &sortedValues[size_t(j) * m];
+                    for (size_t l = 0; l < m; ++l)
+                        for (int ch = 0; ch < 3; ++ch) sum[3 * l + size_t(ch)] += w * v[l][size_t(ch)];
+                });
                 for (size_t l = 0; l < m; ++l)
                     for (int ch = 0; ch < 3; ++ch) out[l][order_[k]][size_t(ch)] = float(sum[3 * l + size_t(ch)] / weights);
             }
@@ -121,24 +126,13 @@ std::vector<std::vector<RGB>> SurfaceGaussian::apply(const std::vector<const std
 }
 
 std::vector<SurfaceGaussian::Weight> SurfaceGaussian::footprintOf(uint32_t point) const {
-    const float inverseTwoSigmaSq = 1.0f / (2.0f * sigma_mm_ * sigma_mm_), reachSq = 9.0f * sigma_mm_ * sigma_mm_;
-    const ExpTable& expOf = expTable();
     const uint32_t k = placeOf_[point];
-    const Point3f& x = sorted_mm_[k];
     std::vector<Weight> out;
     double weights = 0;
-    for (int32_t n : cells_[cellOf_[k]].neighbours) {
-        if (n < 0) continue;
-        const Cell& other = cells_[size_t(n)];
-        for (uint32_t j = other.first; j < other.first + other.count; ++j) {
-            const Vec3f d = sorted_mm_[j] - x;
-            const float dSq = dot(d, d);
-            if (dSq > reachSq) continue;
-            const float w = expOf(dSq * inverseTwoSigmaSq);
-            weights += w;
-            out.push_back({order_[j], w});
-        }
-    }
+    forEachNeighbour(k, cells_[cellOf_[k]], [&](uint32_t j, float w) {
+        weights += w;
+        out.push_back({order_[j], w});
+    });
     for (Weight& w : out) w.weight = float(w.weight / weights);
     return out;
 }

@@ -45,6 +45,10 @@ private:
     std::vector<uint32_t> cellOf_;   // per place: its cell
     std::vector<Point3f> sorted_mm_;
     std::vector<Cell> cells_;
+    // visit(place, weight) for the points within 3 sigma of the one at
+    // `place` (in `cell`), by their places.
+    template <class Visit>
+    void forEachNeighbour(uint32_t place, const Cell& cell, Visit&& visit) const;
 };
 
 // A wide Gaussian over surface points, for scales several times the eye's
