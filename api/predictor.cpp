@@ -79,6 +79,13 @@ RGB Predictor::environment() const { return state_->scene.environment; }
 GridFrame Predictor::worldFrame() const { return state_->scene.worldFrame(); }
 
 namespace {
+// A medium of these labels, built whole, with `like`'s materials and NEE fields.
+std::unique_ptr<LabelMedium> mediumLike(LabelGrid grid, const LabelMedium& like) {
+    auto medium = std::make_unique<LabelMedium>(std::move(grid), like.materials());
+    medium->setSurfaceFields(like.surfaceFields());
+    return medium;
+}
+
 // Whether a brick's bounds are the same to free flights against per-brick
 // majorants (media/collision_events.h), which read its majorant, its sole
 // label and whether its labels share one sigma_t per channel.
@@ -120,9 +127,7 @@ void Predictor::install(LabelGrid grid, bool occupancyChanged, const std::vector
                 std::make_unique<LabelMedium>(std::move(grid), *previous, *changed, running_ != nullptr);
             majorantsRaised_ = majorantsRaised_ || running_ != nullptr;
         } else {
-            auto next = std::make_unique<LabelMedium>(std::move(grid), previous->materials());
-            next->setSurfaceFields(previous->surfaceFields());
-            state_->scene.medium = std::move(next);
+            state_->scene.medium = mediumLike(std::move(grid), *previous);
         }
     } catch (...) {
         state_->scene.medium = std::move(previous);
@@ -406,9 +411,7 @@ void Predictor::dropRunningEstimate() {
     running_.reset();
     if (!majorantsRaised_) return;
     // The exact majorants again: the bits of a predictor that never carried over.
-    auto exact = std::make_unique<LabelMedium>(labels().withChanges({}), state_->scene.medium->materials());
-    exact->setSurfaceFields(state_->scene.medium->surfaceFields());
-    state_->scene.medium = std::move(exact);
+    state_->scene.medium = mediumLike(labels().withChanges({}), *state_->scene.medium);
     majorantsRaised_ = false;
 }
 

@@ -54,10 +54,9 @@ struct AdaptiveSampling {
 //    seed; a voxel whose paths read a change (PathFootprints) has its kept
 //    samples traced again with the same random numbers, so every voxel
 //    holds the bits of a render of its samples in one go (one pass per
-//    channel). Of a touched
-//    voxel's kept samples at most the last retraceSamples are traced again,
-//    the older ones dropped (by index, whatever their paths did: the
-//    estimate stays unbiased).
+//    channel). Of a touched voxel's kept samples at most the last
+//    retraceSamples are traced again, the older ones dropped (by index,
+//    whatever their paths did: the estimate stays unbiased).
 //  - ControlVariates: a running estimate by recursive control variates
 //    (Nicolet et al. 2023). Each prediction draws settings().spp new
 //    samples (the seed as the caller sets it) and traces each with the
@@ -71,8 +70,7 @@ struct AdaptiveSampling {
 //    (MajorantGrid::update; exact again once it is dropped). Unbiased for
 //    a fixed w; w follows the last errors, which move a little with the
 //    estimate, so a small bias is possible (none seen against references:
-//    docs/api.md). A
-//    prediction with the last one's seed starts afresh.
+//    docs/api.md). A prediction with the last one's seed starts afresh.
 // Both need an estimator that records footprints (volpath), per-brick
 // majorants, one process, no adaptive sampling and one pass per channel
 // (channel sampling "separate"; carriesOver()). Otherwise every

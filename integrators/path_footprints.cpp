@@ -1,6 +1,7 @@
 #include "integrators/path_footprints.h"
 
 #include <algorithm>
+#include <functional>
 #include <iterator>
 
 namespace pl {
@@ -37,25 +38,37 @@ bool LabelChanges::metBy(const LabelReads& reads) const {
     return false;
 }
 
-void PathFootprints::add(size_t pixel, LabelReads& reads) {
-    std::vector<uint32_t>& bricks = bricks_[pixel];
-    bricks.insert(bricks.end(), reads.bricks.begin(), reads.bricks.end());
-    std::sort(bricks.begin(), bricks.end());
-    bricks.erase(std::unique(bricks.begin(), bricks.end()), bricks.end());
-    bricks.shrink_to_fit();
+namespace {
+// held := held merged with `more`, both sorted by `less`, keeping the
+// first of the values `same` calls equal.
+template <class T, class Less, class Same>
+void mergeSorted(std::vector<T>& held, std::vector<T>& more, Less less, Same same) {
+    std::sort(more.begin(), more.end(), less);
+    std::vector<T> both;
+    both.reserve(held.size() + more.size());
+    std::merge(held.begin(), held.end(), more.begin(), more.end(), std::back_inserter(both), less);
+    both.erase(std::unique(both.begin(), both.end(), same), both.end());
+    both.shrink_to_fit();
+    held.swap(both);
+}
+}  // namespace
+
+void PathFootprints::add(size_t pixel, const LabelReads& reads) {
+    std::vector<uint32_t> bricks(reads.bricks);
+    mergeSorted(bricks_[pixel], bricks, std::less<uint32_t>(), std::equal_to<uint32_t>());
     // One read per voxel and slot, holding the least bound.
-    std::vector<Read>& held = reads_[pixel];
+    std::vector<Read> more;
+    more.reserve(reads.labels.size());
     for (const LabelRead& r : reads.labels) {
         const uint32_t slot = r.sameUpTo_perMm < 0 ? kSlots - 1 : uint32_t(r.channel);
-        held.push_back({uint32_t(r.voxel * kSlots + slot), r.sameUpTo_perMm});
+        more.push_back({uint32_t(r.voxel * kSlots + slot), r.sameUpTo_perMm});
     }
-    std::sort(held.begin(), held.end(), [](const Read& a, const Read& b) {
-        return a.voxelSlot < b.voxelSlot || (a.voxelSlot == b.voxelSlot && a.sameUpTo_perMm < b.sameUpTo_perMm);
-    });
-    held.erase(std::unique(held.begin(), held.end(),
-                           [](const Read& a, const Read& b) { return a.voxelSlot == b.voxelSlot; }),
-               held.end());
-    held.shrink_to_fit();
+    mergeSorted(
+        reads_[pixel], more,
+        [](const Read& a, const Read& b) {
+            return a.voxelSlot < b.voxelSlot || (a.voxelSlot == b.voxelSlot && a.sameUpTo_perMm < b.sameUpTo_perMm);
+        },
+        [](const Read& a, const Read& b) { return a.voxelSlot == b.voxelSlot; });
 }
 
 void PathFootprints::clear(size_t pixel) {

@@ -34,17 +34,12 @@ public:
     // The voxel's label to compare with is `other` (replacing any before).
     void markRelabelled(uint64_t voxelKey, Label other);
     bool boundsChanged(size_t brick) const { return boundsChanged_[brick] != 0; }
-    bool relabelled(uint64_t voxelKey) const {
-        const uint32_t m = brick_[voxelKey / MajorantGrid::kBrickVoxels];
-        const uint64_t place = voxelKey % MajorantGrid::kBrickVoxels;
-        return m != kNone && ((changed_[m].mask[place / 64] >> (place % 64)) & 1u);
-    }
+    bool relabelled(uint64_t voxelKey) const { return otherLabel(voxelKey) != nullptr; }
     // Whether a read (LabelRead's terms) would have gone otherwise with
     // the other label.
     bool contradicts(uint64_t voxelKey, int channel, float sameUpTo_perMm) const {
-        if (!relabelled(voxelKey)) return false;
-        const Label other = changed_[brick_[voxelKey / MajorantGrid::kBrickVoxels]].other[voxelKey % MajorantGrid::kBrickVoxels];
-        return !(sigmaT_perMm_[size_t(channel)][other] <= sameUpTo_perMm);
+        const Label* other = otherLabel(voxelKey);
+        return other && !(sigmaT_perMm_[size_t(channel)][*other] <= sameUpTo_perMm);
     }
     bool empty() const { return changed_.empty() && !anyBounds_; }
     // Whether a path that read these would go otherwise.
@@ -58,6 +53,13 @@ private:
         std::array<uint64_t, MajorantGrid::kBrickVoxels / 64> mask{};
         std::array<Label, MajorantGrid::kBrickVoxels> other{};
     };
+    // The label to compare a relabelled voxel with; none if not relabelled.
+    const Label* otherLabel(uint64_t voxelKey) const {
+        const uint32_t m = brick_[voxelKey / MajorantGrid::kBrickVoxels];
+        const uint64_t place = voxelKey % MajorantGrid::kBrickVoxels;
+        if (m == kNone || !((changed_[m].mask[place / 64] >> (place % 64)) & 1u)) return nullptr;
+        return &changed_[m].other[place];
+    }
     std::vector<uint8_t> boundsChanged_;
     std::vector<uint32_t> brick_;  // per brick: its changes in changed_, or kNone
     std::vector<BrickChanges> changed_;
@@ -76,8 +78,8 @@ public:
     static bool fits(const MajorantGrid& majorants) {
         return uint64_t(majorants.brickCount()) * MajorantGrid::kBrickVoxels * kSlots <= uint64_t(UINT32_MAX) + 1;
     }
-    // Adds what a pixel's paths read (the reads are sorted in place).
-    void add(size_t pixel, LabelReads& reads);
+    // Adds what a pixel's paths read.
+    void add(size_t pixel, const LabelReads& reads);
     // Forgets a pixel's reads (its samples are traced again).
     void clear(size_t pixel);
     // Whether the pixel's paths would go otherwise after the changes.
