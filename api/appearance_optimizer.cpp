@@ -11,12 +11,14 @@
 
 #include <tbb/parallel_for.h>
 
+#include "api/printers_reach.h"
 #include "compare/colour_difference.h"
 #include "compare/footprint_sample.h"
 #include "compare/surface_colour_error.h"
 #include "media/label_grid.h"
 #include "media/voxel_int_grid.h"
 #include "prepare/halftone.h"
+#include "prepare/rendering_intent.h"
 #include "prepare/threshold_matrix.h"
 #include "render/registry.h"
 
@@ -112,9 +114,11 @@ using LabVector = std::array<double, 3>;
 LabVector difference(const Lab& x, const Lab& y) { return {x.L - y.L, x.a - y.a, x.b - y.b}; }
 double dot(const LabVector& x, const LabVector& y) { return x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; }
 
-// The gamut's match for every colour, each distinct colour searched once
-// (a uniform target is one search).
-std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std::vector<RGB>& colours) {
+// The gamut's match for every colour (first compressed by the perceptual
+// intent, if given), each distinct colour searched once (a uniform target
+// is one search).
+std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std::vector<RGB>& colours,
+                                           const PerceptualIntent* perceptual) {
     std::vector<uint32_t> order(colours.size());
     std::iota(order.begin(), order.end(), 0u);
     auto key = [&](uint32_t i) { return std::make_tuple(colours[i][0], colours[i][1], colours[i][2]); };
@@ -124,7 +128,8 @@ std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std:
         if (k == 0 || key(order[k]) != key(order[k - 1])) distinct.push_back(order[k]);
     std::vector<PrinterGamut::Match> found(distinct.size());
     tbb::parallel_for(size_t(0), distinct.size(), [&](size_t d) {
-        found[d] = gamut.closest(labFromLinearSrgb(colours[distinct[d]]));
+        const Lab colour = labFromLinearSrgb(colours[distinct[d]]);
+        found[d] = gamut.closest(perceptual ? (*perceptual)(colour) : colour);
     });
     std::vector<PrinterGamut::Match> out(colours.size());
     for (size_t k = 0, d = 0; k < order.size(); ++k) {
@@ -247,17 +252,21 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
 // and the mixture that shows it, which the loop prints first.
 struct MappedTargets {
     std::vector<RGB> given, mapped;
+    std::vector<RGB> reachable;  // mapped, less the printer's limits the loop found (api/printers_reach.h)
     std::vector<MaterialFractions> mixture;
     std::vector<Lab> request;  // the colour each voxel's mixture is asked to show
 };
 
-MappedTargets mapTargets(const PrinterGamut& gamut, const std::vector<RGB>& targets, bool gamutMap) {
+MappedTargets mapTargets(const PrinterGamut& gamut, const std::vector<RGB>& targets, bool gamutMap,
+                         RenderingIntent intent) {
     const size_t n = targets.size();
     MappedTargets t;
     t.given = targets;
     for (RGB& x : t.given)
         for (float& v : x) v = std::clamp(v, 0.0f, 1.0f);
-    const std::vector<PrinterGamut::Match> mapping = matchesOf(gamut, t.given);
+    std::optional<PerceptualIntent> perceptual;
+    if (gamutMap && intent == RenderingIntent::Perceptual) perceptual.emplace(gamut);
+    const std::vector<PrinterGamut::Match> mapping = matchesOf(gamut, t.given, perceptual ? &*perceptual : nullptr);
     t.mapped.resize(n);
     t.mixture.resize(n);
     t.request.resize(n);
@@ -266,6 +275,7 @@ MappedTargets mapTargets(const PrinterGamut& gamut, const std::vector<RGB>& targ
         t.mixture[i] = mapping[i].mixture;
         t.request[i] = mapping[i].colour;
     }
+    t.reachable = t.mapped;
     return t;
 }
 
@@ -356,7 +366,8 @@ void scoreIteration(const SeenPrediction& s, const LoopGoal& goal, const std::ve
 class RequestSteps {
 public:
     explicit RequestSteps(size_t n)
-        : previousRequest_(n), previousSeen_(n), gain_(n, 1.0f), previousError_(n), reversals_(n, 0), outside_(n, 0) {}
+        : previousRequest_(n), previousSeen_(n), gain_(n, 1.0f), previousError_(n), reversals_(n, 0), outside_(n, 0),
+          outward_(n, {0, 0, 0}) {}
 
     void move(int iteration, const SeenPrediction& s, const std::vector<Lab>& now, const LoopGoal& goal,
               const PrinterGamut& gamut, double step, std::vector<Lab>& request,
@@ -405,10 +416,13 @@ public:
             mixture[i] = m.mixture;
             request[i] = m.colour;
             outside_[i] = m.deltaEab > 1.0;
+            outward_[i] = {wanted.L - m.colour.L, wanted.a - m.colour.a, wanted.b - m.colour.b};
         });
     }
     // Per voxel, whether its request after the last move lay outside the gamut.
     const std::vector<uint8_t>& outside() const { return outside_; }
+    // Per voxel, from the printable request to the wanted one (CIELAB).
+    const std::vector<std::array<float, 3>>& outward() const { return outward_; }
     // This iteration's requests that lay outside the gamut.
     double outsideShare() const {
         return double(std::count(outside_.begin(), outside_.end(), uint8_t(1))) / double(outside_.size());
@@ -422,6 +436,7 @@ private:
     std::vector<std::array<float, 3>> previousError_;
     std::vector<uint16_t> reversals_;
     std::vector<uint8_t> outside_;
+    std::vector<std::array<float, 3>> outward_;
 };
 
 // The best iteration's labels back, over the shell (the loop changes
@@ -504,14 +519,16 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const VoxelIntGrid owner = shellOwners(predictor.labels(), p.voxels, settings.shellDepth_mm);
     LoopGoal goal(predictor.surfacePoints_mm(), settings);
 
-    MappedTargets aim = mapTargets(gamut, targets, settings.gamutMap);
-    result.mappingLoss = surfaceColourError(goal.eye, aim.mapped, aim.given);
+    MappedTargets aim = mapTargets(gamut, targets, settings.gamutMap, settings.intent);
+    result.mappingLossFlatFace = surfaceColourError(goal.eye, aim.mapped, aim.given);
     result.targetSeen = goal.eye.apply(aim.given);
     goal.aimAt(aim.mapped);
-    result.mappedSeen = goal.mappedSeen;
 
     RequestSteps steps(n);
+    PrintersReach reach(n);
+    const bool mapToReach = settings.gamutMap && settings.spatialGamutMap;
     double bestScore = 0;
+    std::vector<Lab> bestWideLab;
     int raisedAt = 0;  // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
         const bool noisy = !capabilitiesOf(predictor.settings()).deterministic;
@@ -531,7 +548,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             result.bestIteration = iteration;
             if (iteration > 0) bestLabels = predictor.labels().withChanges({});
             result.predictedSeen = now.overFootprint;
-            result.atPrintersLimit = steps.outside();  // the move that made these labels
+            bestWideLab = now.wideLab;
+            if (!mapToReach) result.atPrintersLimit = steps.outside();  // the move that made these labels
         }
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
         const double elapsed = std::chrono::duration<double>(Clock::now() - loopStart).count();
@@ -553,6 +571,19 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
                                                        : labsOf(goal.updateFiltered(now.predicted));
             steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
+            // Where the print proved at the printer's limit, the targets
+            // become what it can show there (the fast predictor's edges are
+            // not the print's: Monte Carlo's evidence only); the best so far
+            // is scored again against them.
+            if (mapToReach && !onFast &&
+                reach.update(goal.goal, nowOverUpdate, now.noiseVariance, steps.outside(), steps.outward())) {
+                aim.reachable = reach.reachable(aim.mapped, goal.eye);
+                goal.aimAt(aim.reachable);
+                double sum = 0;
+                for (size_t i = 0; i < n; ++i) sum += ciede2000(bestWideLab[i], goal.goalWide[i]);
+                bestScore = sum / double(n);
+            }
+            it.atLimitShare = reach.atLimitShare();
         }
         std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture, settings.halftone,
                                                                    iteration > 0 ? settings.hysteresis : 0.0f);
@@ -574,6 +605,10 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         }
         p = predictor.predict();
     }
+    result.aimedAt = aim.reachable;
+    result.mappedSeen = goal.mappedSeen;
+    result.mappingLoss = mapToReach ? surfaceColourError(goal.eye, aim.reachable, aim.given) : result.mappingLossFlatFace;
+    if (mapToReach) result.atPrintersLimit = reach.atLimit();
     result.deltaESeen.resize(n);
     for (size_t i = 0; i < n; ++i)
         result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
@@ -582,7 +617,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.mapped, environment);
+        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.reachable, environment);
     }
     return result;
 }

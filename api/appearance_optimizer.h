@@ -4,10 +4,14 @@
 // the target as the eye sees it, move each surface voxel's requested colour
 // in CIELAB, print the mixture that shows it, repeat.
 //  - Targets are per surface voxel, linear RGB reflectance (white = 1).
-//    They are first mapped into the printer's gamut: each to the colour of
-//    the mixture nearest it in CIELAB (minimum Delta E clipping; the
-//    identity inside the gamut). Loop and judge aim at the same mapped
-//    targets; the mapping loss (as given -> mapped) is reported apart.
+//    They are first mapped into the printer's gamut by a rendering intent
+//    (prepare/rendering_intent.h): by default each to the colour of the
+//    mixture nearest it in CIELAB (colorimetric: minimum Delta E clipping,
+//    the identity inside the gamut), or compressed as a whole (perceptual). Where the loop then finds the print at
+//    the printer's limit (edges, thin walls, fine detail), the targets
+//    become what it can show there (api/printers_reach.h). Loop and judge
+//    aim at the same targets; the mapping loss (as given -> aimed at) is
+//    reported apart.
 //  - The shell is every object voxel within shellDepth_mm of a surface
 //    voxel; each takes the mixture of its nearest surface voxel, halftoned
 //    by prepare's 3D vector error diffusion; only changed voxels go to the
@@ -40,6 +44,7 @@
 #include "api/predictor.h"
 #include "compare/surface_colour_error.h"
 #include "prepare/printer_gamut.h"
+#include "prepare/rendering_intent.h"
 
 namespace pl {
 
@@ -74,6 +79,12 @@ struct OptimizeSettings {
     // alone, and so is most of the noise (0: per voxel).
     float updateFootprint_mm = kEyeFootprint_mm;
     bool gamutMap = true;  // false: aim at the targets as given (clipped by the inverse)
+    // How targets become printable colours (prepare/rendering_intent.h).
+    RenderingIntent intent = RenderingIntent::Colorimetric;
+    // Where the loop finds the print at the printer's limit (edges,
+    // corners, thin walls, fine detail: api/printers_reach.h), aim at what
+    // it can show there. false: at the flat-face gamut's colours throughout.
+    bool spatialGamutMap = true;
     // A fast predictor (an integrator's name, e.g. "diffusion") for the
     // first iterations: the loop predicts with it while its own score falls
     // by at least switchBelowDeltaE per iteration, then with the
@@ -121,6 +132,9 @@ struct OptimizeIteration {
     // lay more than 1 Delta E*ab from the nearest printable colour found
     // for it: where the print would need colours the printer cannot show.
     double outsideShare = 0;
+    // Share of the surface voxels found at the printer's limit so far
+    // (their targets re-mapped to what the print can show there).
+    double atLimitShare = 0;
     std::string predictor;    // the integrator that made this iteration's prediction
     uint32_t spp = 0;         // and its samples per pixel
 };
@@ -157,17 +171,23 @@ struct OptimizeResult {
     std::vector<OptimizeIteration> iterations;
     int bestIteration = 0;  // whose labels the predictor ends with
     std::string stoppedBecause;
-    // Target as given -> mapped into the gamut (CIEDE2000, per voxel and
-    // over the eye's footprint): what the printer cannot show.
-    SurfaceColourError mappingLoss;
+    // Target as given -> what the loop aimed at in the end (CIEDE2000, per
+    // voxel and over the eye's footprint): what the printer cannot show,
+    // its limits at edges and detail included; and the part of it the
+    // flat-face gamut alone accounts for.
+    SurfaceColourError mappingLoss, mappingLossFlatFace;
+    // Per surface voxel, what the loop aimed at in the end (linear sRGB
+    // reflectance): the judge's reference.
+    std::vector<RGB> aimedAt;
     // Per surface voxel over the eye's footprint: the target as given, as
     // mapped, the best iteration's prediction, and CIEDE2000 between the
     // last two.
     std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
     std::vector<float> deltaESeen;
-    // Per surface voxel: whether the request behind the best labels lay
-    // more than 1 Delta E*ab beyond the gamut (the print at the printer's
-    // limit there: its blur, its edges).
+    // Per surface voxel: whether the print is at the printer's limit there
+    // (its target re-mapped; without the spatial gamut map, whether the
+    // request behind the best labels lay more than 1 Delta E*ab beyond the
+    // gamut).
     std::vector<uint8_t> atPrintersLimit;
     std::optional<OptimizeJudgement> judgement;  // with judge
     // With recordChanges: the changes after each prediction but the last,

@@ -82,6 +82,13 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
         os.timeBudget_s = *t;
     }
     os.gamutMap = !args.has("--no-gamut-map");
+    os.spatialGamutMap = !args.has("--flat-gamut-map");
+    if (auto name = args.value("--intent")) {
+        const std::optional<RenderingIntent> intent = parseEnum(kRenderingIntentNames, *name);
+        if (!intent) throw UsageError("--intent must be colorimetric or perceptual");
+        if (!os.gamutMap) throw UsageError("--intent maps into the gamut: not with --no-gamut-map");
+        os.intent = *intent;
+    }
     if (auto s = args.number("--step")) {
         if (!(*s > 0 && *s <= 2)) throw UsageError("--step must be in (0, 2]");
         os.step = float(*s);
@@ -160,9 +167,14 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
     const auto& its = result.iterations;
     const OptimizeIteration& best = its[size_t(result.bestIteration)];
     const SurfaceColourError& loss = result.mappingLoss;
-    std::printf("mapping loss (the target as given -> the nearest printable colours): mean CIEDE2000 %.3f, 95th "
+    std::printf("mapping loss (the target as given -> printable colours, %s intent): mean CIEDE2000 %.3f, 95th "
                 "percentile %.3f over the eye's %g mm footprint%s\n",
-                loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm, os.gamutMap ? "" : " (not applied: --no-gamut-map)");
+                enumName(kRenderingIntentNames, os.intent), loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm,
+                os.gamutMap ? "" : " (not applied: --no-gamut-map)");
+    if (os.gamutMap && os.spatialGamutMap)
+        std::printf("  of which the flat-face gamut's %.3f; the rest where the print proved at the printer's limit (%.1f "
+                    "%% of the surface: edges, thin walls, fine detail), whose targets became what it shows there\n",
+                    result.mappingLossFlatFace.meanFiltered, 100.0 * its.back().atLimitShare);
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
     std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "
@@ -170,7 +182,7 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
                 its.front().meanDeltaE, best.meanDeltaE, result.bestIteration, its.size() - 1, best.noiseDeltaE,
                 its.front().p95DeltaE, best.p95DeltaE, its.front().meanDeltaEWide, best.meanDeltaEWide,
                 result.stoppedBecause.c_str(), loopSeconds);
-    if (result.bestIteration >= 2)
+    if (result.bestIteration >= 2 && !(os.gamutMap && os.spatialGamutMap))
         std::printf("the best labels' requests: %.1f %% of the surface voxels asked for colours the printer cannot show "
                     "(more than 1 Delta E*ab outside its gamut): there the error is the printer's limit (its blur, "
                     "its edges), not the loop's\n",
@@ -214,7 +226,7 @@ struct OptimizeOutputs {
     // the prediction and CIEDE2000) and the page that shows them with the
     // history.
     void write(const OptimizeResult& result, const std::string& history, const Predictor& predictor,
-               const SceneDescription& desc) const;
+               const SceneDescription& desc, RenderingIntent intent) const;
     const std::filesystem::path prefix;
     const std::filesystem::path csv = named(".csv"), labels = named("_labels.vdb"), targetGlb = named("_target.glb"),
                                 mappedGlb = named("_mapped.glb"), predictionGlb = named("_prediction.glb"),
@@ -224,7 +236,7 @@ struct OptimizeOutputs {
 };
 
 void OptimizeOutputs::write(const OptimizeResult& result, const std::string& history, const Predictor& predictor,
-                            const SceneDescription& desc) const {
+                            const SceneDescription& desc, RenderingIntent intent) const {
     if (!prefix.parent_path().empty()) std::filesystem::create_directories(prefix.parent_path());
     writeTextFile(csv, history);
     LabelGrid final = predictor.labels().withChanges({});
@@ -271,13 +283,15 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
     const SurfaceColourError& loss = result.mappingLoss;
     HtmlReport page;
     page.title = "printlight optimize: " + desc.sceneFile.filename().string();
-    char summary[600];
+    char summary[700];
     std::snprintf(summary, sizeof summary,
-                  "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable); loop %.2f -> %.2f "
+                  "Over the eye's %g mm footprint: mapping loss %.2f (target as given -> printable, %s intent; the "
+                  "flat-face gamut's %.2f); loop %.2f -> %.2f "
                   "(mapped target -> prediction, iteration %d; %s, %u spp); from the target as given %.2f (what a "
-                  "print shop sees, the %s); at the printer's limit %.1f %% of the surface (its requests beyond the "
-                  "gamut).",
-                  kEyeFootprint_mm, loss.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
+                  "print shop sees, the %s); at the printer's limit %.1f %% of the surface (where the loop "
+                  "found it, the targets became what the print shows there).",
+                  kEyeFootprint_mm, loss.meanFiltered, enumName(kRenderingIntentNames, intent),
+                  result.mappingLossFlatFace.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
                   predictor.settings().integrator.c_str(), predictor.settings().spp, fromGiven,
                   judgedEverywhere ? "judge's colours" : "loop's best prediction", 100.0 * atLimitShare);
     std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
@@ -362,6 +376,13 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kChannelSamplingOption,
                     {"--gamut", "FILE", "the printer's characterisation (default: the material table's, made on first use)"},
                     {"--no-gamut-map", "", "aim at the target as given, not at its nearest printable colour"},
+                    {"--intent", "NAME",
+                     "how targets become printable: colorimetric (the nearest printable colour; the default) or "
+                     "perceptual (the whole target compressed into the gamut, keeping hue and the order of "
+                     "lightness)"},
+                    {"--flat-gamut-map", "",
+                     "aim at the flat-face gamut's colours everywhere, also where the print proves it cannot show "
+                     "them (edges, thin walls, fine detail)"},
                     {"-o,--output", "PREFIX", "outputs PREFIX.csv, PREFIX_labels.vdb, PREFIX.html and its models"}});
     if (args.positional().size() != 1) throw UsageError("optimize needs exactly one SCENE.json");
     auto target = args.value("--target");
@@ -409,16 +430,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000,mean_de2000_wide,outside_share,spp,retraced_voxels,mean_samples\n";
+        "noise_de2000,mean_de2000_wide,outside_share,at_limit_share,spp,retraced_voxels,mean_samples\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
         char line[256];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u,%zu,%.1f\n", it.iteration,
-                      it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel, it.seconds,
-                      it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide, it.outsideShare,
-                      it.spp, it.retracedVoxels, it.meanSamples);
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%.4f,%u,%zu,%.1f\n",
+                      it.iteration, it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel,
+                      it.seconds, it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide,
+                      it.outsideShare, it.atLimitShare, it.spp, it.retracedVoxels, it.meanSamples);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
@@ -427,7 +448,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
     });
     if (!speaks) return 0;
     printOutcome(result, os);
-    out.write(result, csv.str(), predictor, desc);
+    out.write(result, csv.str(), predictor, desc, os.intent);
     if (auto file = args.value("--record-changes")) {
         writeLabelChanges(*file, result.changes);
         std::printf("wrote %s (the label changes of %zu iterations)\n", file->c_str(), result.changes.size());

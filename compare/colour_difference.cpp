@@ -10,19 +10,33 @@ double degrees(double radians) { return radians * 180.0 / kPiD; }
 double radians(double degrees) { return degrees * kPiD / 180.0; }
 }  // namespace
 
+// sRGB primaries, D65 white (IEC 61966-2-1), white normalised to Y = 1.
+constexpr double kXn = 0.95047, kYn = 1.0, kZn = 1.08883;
+constexpr double kLabDelta = 6.0 / 29.0;
+
 Lab labFromLinearSrgb(const RGB& rgb) {
-    // sRGB primaries, D65 white (IEC 61966-2-1), white normalised to Y = 1.
     const double r = rgb[0], g = rgb[1], b = rgb[2];
     const double X = 0.4124564 * r + 0.3575761 * g + 0.1804375 * b;
     const double Y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
     const double Z = 0.0193339 * r + 0.1191920 * g + 0.9503041 * b;
-    const double Xn = 0.95047, Yn = 1.0, Zn = 1.08883;
+    const double Xn = kXn, Yn = kYn, Zn = kZn;
     auto f = [](double t) {
-        const double d = 6.0 / 29.0;
+        const double d = kLabDelta;
         return t > d * d * d ? std::cbrt(t) : t / (3 * d * d) + 4.0 / 29.0;
     };
     const double fx = f(X / Xn), fy = f(Y / Yn), fz = f(Z / Zn);
     return {float(116 * fy - 16), float(500 * (fx - fy)), float(200 * (fy - fz))};
+}
+
+RGB linearSrgbFromLab(const Lab& lab) {
+    auto finv = [](double t) {
+        const double d = kLabDelta;
+        return t > d ? t * t * t : 3 * d * d * (t - 4.0 / 29.0);
+    };
+    const double fy = (lab.L + 16) / 116.0;
+    const double X = kXn * finv(fy + lab.a / 500.0), Y = kYn * finv(fy), Z = kZn * finv(fy - lab.b / 200.0);
+    return {float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z), float(-0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
+            float(0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z)};
 }
 
 double ciede2000(const Lab& x, const Lab& y) {

@@ -13,6 +13,8 @@ struct Lab {
 
 // Linear sRGB (reflectance, white = 1) to L*a*b* under D65.
 Lab labFromLinearSrgb(const RGB& rgb);
+// And back (not clamped: a colour outside sRGB has components outside [0, 1]).
+RGB linearSrgbFromLab(const Lab& lab);
 
 // CIEDE2000 with kL = kC = kH = 1.
 double ciede2000(const Lab& x, const Lab& y);

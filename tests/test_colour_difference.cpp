@@ -2,6 +2,7 @@
 // sRGB to L*a*b* conversion against known points.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -47,6 +48,21 @@ TEST(ColorDifference, LinearSrgbToLab) {
     EXPECT_NEAR(red.L, 53.24f, 0.05f);
     EXPECT_NEAR(red.a, 80.09f, 0.1f);
     EXPECT_NEAR(red.b, 67.20f, 0.1f);
+}
+
+TEST(ColorDifference, LabToLinearSrgbInvertsIt) {
+    // Round trips over the sRGB cube, dark colours included; and a colour
+    // outside sRGB comes back outside [0, 1], not clamped.
+    for (float r : {0.0f, 0.003f, 0.2f, 0.7f, 1.0f})
+        for (float g : {0.0f, 0.05f, 0.5f, 1.0f})
+            for (float b : {0.0f, 0.01f, 0.3f, 1.0f}) {
+                const RGB back = linearSrgbFromLab(labFromLinearSrgb({r, g, b}));
+                EXPECT_NEAR(back[0], r, 2e-5f);
+                EXPECT_NEAR(back[1], g, 2e-5f);
+                EXPECT_NEAR(back[2], b, 2e-5f);
+            }
+    const RGB beyond = linearSrgbFromLab({50, 120, 0});
+    EXPECT_GT(std::max({beyond[0], beyond[1], beyond[2]}), 1.0f);
 }
 
 }  // namespace

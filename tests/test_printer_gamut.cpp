@@ -18,6 +18,7 @@
 #include "core/sensors.h"
 #include "io/materials_io.h"
 #include "io/printer_gamut_io.h"
+#include "prepare/rendering_intent.h"
 #include "render/render.h"
 #include "test_util.h"
 
@@ -130,6 +131,115 @@ TEST(PrinterGamut, InverseReachesEveryColourInsideAndTheNearestOutside) {
 // printer can show (random mixtures') come back from the gamut's inverse
 // (through GamutMixing's rounding) and are printed within a fraction of a
 // unit; the simple subtractive model misses them by far more.
+double hueDegrees(const Lab& c) {
+    const double h = std::atan2(double(c.b), double(c.a)) * 180.0 / 3.141592653589793;
+    return h < 0 ? h + 360 : h;
+}
+
+// The boundary descriptor against the gamut's own inverse: every printable
+// colour lies within it, and its surface lies on the gamut's.
+TEST(GamutBoundary, HoldsTheGamutAndLiesOnItsSurface) {
+    const PrinterGamut gamut = gamutOf(4, linearKmReflectance);
+    const GamutBoundary boundary(gamut);
+    Rng rng(5, 0);
+    // Segment maxima lie a little inside the true boundary: few printable
+    // colours beyond them, none far.
+    double worstOutside = 0;
+    int outside = 0;
+    for (int k = 0; k < 3000; ++k) {
+        const Lab c = gamut.colour(randomMixture(rng));
+        const double beyond = std::hypot(c.a, c.b) - boundary.maxChroma(c.L, hueDegrees(c));
+        worstOutside = std::max(worstOutside, beyond);
+        outside += beyond > 1.0;
+    }
+    std::printf("printable colours beyond the boundary by over 1 Delta C*ab: %d of 3000, worst %.2f\n", outside,
+                worstOutside);
+    EXPECT_LT(outside, 30);
+    EXPECT_LT(worstOutside, 5.0);
+    double sum = 0, worst = 0;
+    int count = 0;
+    for (int h = 0; h < 360; h += 15)
+        for (double t : {0.2, 0.4, 0.6, 0.8}) {
+            const double L = boundary.darkestL() + t * (boundary.lightestL() - boundary.darkestL());
+            const double C = boundary.maxChroma(L, h);
+            const double rad = h * 3.141592653589793 / 180.0;
+            const Lab onSurface{float(L), float(C * std::cos(rad)), float(C * std::sin(rad))};
+            const double off = gamut.closest(onSurface).deltaEab;  // 0 inside, the distance outside
+            sum += off;
+            worst = std::max(worst, off);
+            ++count;
+        }
+    std::printf("boundary on the gamut's surface: mean %.3f, worst %.3f Delta E*ab beyond it\n", sum / count, worst);
+    EXPECT_LT(sum / count, 1.0);
+    EXPECT_LT(worst, 4.0);
+}
+
+// The perceptual intent keeps hue, keeps the order of lightness and of
+// chroma, lands inside the gamut and leaves the inner chroma alone.
+TEST(RenderingIntent, PerceptualKeepsHueAndOrderInsideTheGamut) {
+    const PrinterGamut gamut = gamutOf(4, linearKmReflectance);
+    const PerceptualIntent perceptual(gamut);
+    const GamutBoundary boundary(gamut);
+    Rng rng(9, 0);
+    for (int k = 0; k < 400; ++k) {
+        const RGB rgb{rng.uniform(), rng.uniform(), rng.uniform()};
+        const Lab in = labFromLinearSrgb(rgb), out = perceptual(in);
+        EXPECT_LT(gamut.closest(out).deltaEab, 2.0) << rgb[0] << " " << rgb[1] << " " << rgb[2];
+        if (std::hypot(in.a, in.b) > 5) {
+            double dh = std::abs(hueDegrees(out) - hueDegrees(in));
+            EXPECT_LT(std::min(dh, 360 - dh), 0.01);
+        }
+    }
+    // Greys: black and white to the printer's, in order between.
+    double before = -1;
+    for (float g = 0; g <= 1.0001f; g += 0.05f) {
+        const Lab out = perceptual(labFromLinearSrgb({g, g, g}));
+        EXPECT_GT(out.L, before);
+        before = out.L;
+        if (g == 0) {
+            EXPECT_NEAR(out.L, boundary.darkestL(), 0.01);
+        }
+    }
+    EXPECT_NEAR(before, boundary.lightestL(), 0.01);
+    // At the cusp's lightness of a red hue, chroma rising to sRGB's boundary: the
+    // chroma it maps to keeps rising, and the most saturated colours stay
+    // apart where clipping merges them onto the gamut's surface.
+    const double hue = 30 * 3.141592653589793 / 180;
+    const float cuspL = float(boundary.cuspLightness(30));
+    auto atChroma = [&](double C) { return Lab{cuspL, float(C * std::cos(hue)), float(C * std::sin(hue))}; };
+    double sRgbChroma = 0;
+    for (double C = 0;; C += 0.25) {
+        const RGB rgb = linearSrgbFromLab(atChroma(C));
+        if (*std::min_element(rgb.begin(), rgb.end()) < 0 || *std::max_element(rgb.begin(), rgb.end()) > 1) break;
+        sRgbChroma = C;
+    }
+    double lastChroma = -1;
+    std::vector<Lab> outs, clipped;
+    for (int k = 0; k <= 10; ++k) {
+        const Lab in = atChroma(sRgbChroma * k / 10.0), out = perceptual(in);
+        const double chroma = std::hypot(out.a, out.b);
+        EXPECT_GT(chroma, lastChroma) << k;
+        lastChroma = chroma;
+        outs.push_back(out);
+        clipped.push_back(gamut.closest(in).colour);
+    }
+    // Clipping keeps the colours inside the gamut as they are; the
+    // perceptual intent moves them too, to make room for the rest.
+    int inside = 0;
+    while (inside < 10 && ciede2000(clipped[size_t(inside) + 1], atChroma(sRgbChroma * (inside + 1) / 10.0)) < 0.05)
+        ++inside;
+    ASSERT_GE(inside, 1);
+    std::printf("sRGB's most saturated red at L* %.1f (C* %.1f) -> C* %.1f; at %d0 %% of it (inside the gamut) %.2f "
+                "from clipping's\n",
+                cuspL, sRgbChroma, lastChroma, inside, ciede2000(outs[size_t(inside)], clipped[size_t(inside)]));
+    EXPECT_GT(ciede2000(outs[size_t(inside)], clipped[size_t(inside)]), 0.5);
+    // A colour well inside: only its lightness moves (chroma under the knee).
+    const Lab inner{45, 3, -2};
+    const Lab innerOut = perceptual(inner);
+    EXPECT_FLOAT_EQ(innerOut.a, inner.a);
+    EXPECT_FLOAT_EQ(innerOut.b, inner.b);
+}
+
 TEST(PrinterGamut, PrepareMixingFromTheGamutBeatsTheSimpleModel) {
     const auto gamut = readPrinterGamut(test::sourceDir() / "data/materials/resins_illustrative.gamut.json", "");
     ASSERT_TRUE(gamut);

@@ -1,0 +1,58 @@
+// Targets the print can show at every point: the flat-face gamut
+// (prepare/printer_gamut.h) is what halftoned mixtures show on a wide flat
+// face; at edges, corners, thin walls and fine detail the print's blur
+// shows less (darker, less saturated). The loop finds where: a voxel whose
+// request stays beyond the flat-face gamut for several iterations is
+// printed at the printer's limit, and what its prediction still lacks in
+// the direction the request was pushed out of the gamut is the printer's
+// limit there, not the loop's error. That shortfall, once significant
+// against the predictions' noise, is taken off the voxel's target
+// (frozen: the loop no longer chases it) and the shifts are smoothed over
+// the eye's footprint so the re-mapped targets show no seam. What is
+// left, the error across that direction and everywhere else, is the loop's.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "compare/colour_difference.h"
+#include "compare/surface_gaussian.h"
+
+namespace pl {
+
+class PrintersReach {
+public:
+    // Iterations in a row a request must lie beyond the gamut before its
+    // shortfall is measured.
+    static constexpr int kIterationsBeyond = 3;
+
+    explicit PrintersReach(size_t voxels);
+
+    // After each move of the requests: per surface voxel the target and the
+    // prediction over the eye's footprint that the move answered (CIELAB),
+    // whether the moved request lay beyond the gamut and in which
+    // direction (the clipped request to the wanted one, any length), and the
+    // variance per CIELAB component of one prediction's noise over the
+    // footprint. Returns whether voxels newly reached the printer's limit.
+    bool update(const std::vector<Lab>& goal, const std::vector<Lab>& predicted, double noiseVariance,
+                const std::vector<uint8_t>& beyond, const std::vector<std::array<float, 3>>& outward);
+
+    // The targets with the limits found taken off, smoothed over `eye`
+    // (linear sRGB reflectance per surface voxel).
+    std::vector<RGB> reachable(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) const;
+
+    // Per surface voxel: whether it is at the printer's limit.
+    const std::vector<uint8_t>& atLimit() const { return atLimit_; }
+    double atLimitShare() const;
+
+private:
+    // Per voxel: the iterations in a row beyond the gamut, the sums over
+    // them of the shortfall's direction and of the target minus the
+    // prediction; and, once at the limit, the shift of its target.
+    std::vector<uint16_t> run_;
+    std::vector<std::array<float, 3>> outwardSum_, errorSum_, shift_;
+    std::vector<uint8_t> atLimit_;
+};
+
+}  // namespace pl
