@@ -576,7 +576,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             // not the print's: Monte Carlo's evidence only); the best so far
             // is scored again against them.
             if (mapToReach && !onFast &&
-                reach.update(goal.goal, nowOverUpdate, now.noiseVariance, steps.outside(), steps.outward())) {
+                reach.update({goal.goal, nowOverUpdate, goal.goalWide, now.wideLab, now.noiseVariance,
+                              now.noiseVarianceWide, steps.outside(), steps.outward()})) {
                 aim.reachable = reach.reachable(aim.mapped, goal.eye);
                 goal.aimAt(aim.reachable);
                 double sum = 0;

@@ -8,42 +8,49 @@
 namespace pl {
 
 PrintersReach::PrintersReach(size_t voxels)
-    : run_(voxels, 0), outwardSum_(voxels, {0, 0, 0}), errorSum_(voxels, {0, 0, 0}), shift_(voxels, {0, 0, 0}),
-      atLimit_(voxels, 0) {}
+    : run_(voxels, 0), outwardSum_(voxels, {0, 0, 0}), errorSum_(voxels, {0, 0, 0}), errorWideSum_(voxels, {0, 0, 0}),
+      shift_(voxels, {0, 0, 0}), atLimit_(voxels, 0) {}
 
-bool PrintersReach::update(const std::vector<Lab>& goal, const std::vector<Lab>& predicted, double noiseVariance,
-                           const std::vector<uint8_t>& beyond, const std::vector<std::array<float, 3>>& outward) {
+bool PrintersReach::update(const Evidence& e) {
     const size_t n = run_.size();
     std::vector<uint8_t> found(n, 0);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         if (atLimit_[i]) return;
-        if (!beyond[i]) {
+        if (!e.beyond[i]) {
             run_[i] = 0;
-            outwardSum_[i] = errorSum_[i] = {0, 0, 0};
+            outwardSum_[i] = errorSum_[i] = errorWideSum_[i] = {0, 0, 0};
             return;
         }
-        const std::array<float, 3>& o = outward[i];
+        const std::array<float, 3>& o = e.outward[i];
         const float length = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
         if (!(length > 0)) return;
-        const std::array<float, 3> error{goal[i].L - predicted[i].L, goal[i].a - predicted[i].a,
-                                         goal[i].b - predicted[i].b};
-        for (int c = 0; c < 3; ++c) {
-            outwardSum_[i][size_t(c)] += o[size_t(c)] / length;
-            errorSum_[i][size_t(c)] += error[size_t(c)];
+        const Lab &g = e.goal[i], &p = e.predicted[i], &gw = e.goalWide[i], &pw = e.predictedWide[i];
+        const std::array<float, 3> error{g.L - p.L, g.a - p.a, g.b - p.b}, errorWide{gw.L - pw.L, gw.a - pw.a, gw.b - pw.b};
+        for (size_t c = 0; c < 3; ++c) {
+            outwardSum_[i][c] += o[c] / length;
+            errorSum_[i][c] += error[c];
+            errorWideSum_[i][c] += errorWide[c];
         }
         if (++run_[i] < kIterationsBeyond) return;
         // The mean shortfall along the mean outward direction, kept when it
-        // is more than two standard errors of the mean of the predictions'
-        // noise along it (on a flat face, a target on the gamut's surface
-        // sends its request out by noise alone, half of the time).
+        // is more than three standard errors of its noise (on a flat face, a
+        // target on the gamut's surface sends its request out by noise
+        // alone, half of the time).
         const std::array<float, 3>& u = outwardSum_[i];
         const double uLength = std::sqrt(double(u[0]) * u[0] + double(u[1]) * u[1] + double(u[2]) * u[2]);
         if (!(uLength > 0)) return;
         const double runs = double(run_[i]);
-        double shortfall = 0;
-        for (int c = 0; c < 3; ++c) shortfall += double(errorSum_[i][size_t(c)]) / runs * u[size_t(c)] / uLength;
-        if (shortfall <= 2 * std::sqrt(noiseVariance / runs)) return;
-        for (int c = 0; c < 3; ++c) shift_[i][size_t(c)] = float(-shortfall * u[size_t(c)] / uLength);
+        double along = 0, alongWide = 0;
+        for (size_t c = 0; c < 3; ++c) {
+            along += double(errorSum_[i][c]) / runs * u[c] / uLength;
+            alongWide += double(errorWideSum_[i][c]) / runs * u[c] / uLength;
+        }
+        const double detail = along - alongWide, detailVariance = e.noiseVariance / runs;
+        const double shrink = detail != 0 ? std::max(0.0, 1.0 - detailVariance / (detail * detail)) : 0.0;
+        const double shortfall = alongWide + shrink * detail;
+        const double variance = e.noiseVarianceWide / runs + shrink * shrink * detailVariance;
+        if (shortfall <= 3 * std::sqrt(variance)) return;
+        for (size_t c = 0; c < 3; ++c) shift_[i][c] = float(-shortfall * u[c] / uLength);
         atLimit_[i] = 1;
         found[i] = 1;
     });

@@ -29,14 +29,23 @@ public:
 
     explicit PrintersReach(size_t voxels);
 
-    // After each move of the requests: per surface voxel the target and the
-    // prediction over the eye's footprint that the move answered (CIELAB),
-    // whether the moved request lay beyond the gamut and in which
-    // direction (the clipped request to the wanted one, any length), and the
-    // variance per CIELAB component of one prediction's noise over the
-    // footprint. Returns whether voxels newly reached the printer's limit.
-    bool update(const std::vector<Lab>& goal, const std::vector<Lab>& predicted, double noiseVariance,
-                const std::vector<uint8_t>& beyond, const std::vector<std::array<float, 3>>& outward);
+    // What a move of the requests answered, per surface voxel (CIELAB):
+    // the target and the prediction over the eye's footprint and over
+    // three (the wide scale, a tenth of the noise), the variance per
+    // component of one prediction's noise at both scales, whether the
+    // moved request lay beyond the gamut and in which direction (from the
+    // printable request to the wanted one, any length).
+    struct Evidence {
+        const std::vector<Lab>&goal, &predicted, &goalWide, &predictedWide;
+        double noiseVariance, noiseVarianceWide;
+        const std::vector<uint8_t>& beyond;
+        const std::vector<std::array<float, 3>>& outward;
+    };
+    // After each move; returns whether voxels newly reached the printer's
+    // limit. The shortfall is the wide one plus the footprint's detail
+    // shrunk by James-Stein's rule against its noise (sharp at edges, not
+    // blotched by noise on faces).
+    bool update(const Evidence& e);
 
     // The targets with the limits found taken off, smoothed over `eye`
     // (linear sRGB reflectance per surface voxel).
@@ -49,9 +58,10 @@ public:
 private:
     // Per voxel: the iterations in a row beyond the gamut, the sums over
     // them of the shortfall's direction and of the target minus the
-    // prediction; and, once at the limit, the shift of its target.
+    // prediction at both scales; and, once at the limit, the shift of its
+    // target.
     std::vector<uint16_t> run_;
-    std::vector<std::array<float, 3>> outwardSum_, errorSum_, shift_;
+    std::vector<std::array<float, 3>> outwardSum_, errorSum_, errorWideSum_, shift_;
     std::vector<uint8_t> atLimit_;
 };
 

@@ -6,6 +6,7 @@
 // iteration time; writes PREFIX.csv (the same numbers), PREFIX_labels.vdb
 // (the final labels) and PREFIX.html (the models and the history).
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -174,7 +175,9 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
     if (os.gamutMap && os.spatialGamutMap)
         std::printf("  of which the flat-face gamut's %.3f; the rest where the print proved at the printer's limit (%.1f "
                     "%% of the surface: edges, thin walls, fine detail), whose targets became what it shows there\n",
-                    result.mappingLossFlatFace.meanFiltered, 100.0 * its.back().atLimitShare);
+                    result.mappingLossFlatFace.meanFiltered,
+                    100.0 * double(std::count(result.atPrintersLimit.begin(), result.atPrintersLimit.end(), 1)) /
+                        double(std::max<size_t>(1, result.atPrintersLimit.size())));
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
     std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "

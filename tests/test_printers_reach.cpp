@@ -37,7 +37,7 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
     Rng rng(11, 0);
     bool foundAny = false;
     for (int iteration = 0; iteration < 6; ++iteration) {
-        std::vector<Lab> predicted(n);
+        std::vector<Lab> predicted(n), predictedWide(n);
         std::vector<uint8_t> beyond(n, 0);
         std::vector<std::array<float, 3>> outward(n, {0, 0, 0});
         for (size_t i = 0; i < n; ++i) {
@@ -48,10 +48,14 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
                 return float(noiseSigma * std::sqrt(-2 * std::log(u)) * std::cos(2 * 3.141592653589793 * v));
             };
             predicted[i] = {target.L + noise(), target.a - shortfall + noise(), target.b + noise()};
+            // Over three footprints: a tenth of the variance.
+            predictedWide[i] = {target.L + noise() / 3.16f, target.a - shortfall + noise() / 3.16f,
+                                target.b + noise() / 3.16f};
             beyond[i] = x < 2 * kSide / 3;
             outward[i] = {0, 3, 0};
         }
-        foundAny |= reach.update(goal, predicted, noiseSigma * noiseSigma, beyond, outward);
+        foundAny |= reach.update(
+            {goal, predicted, goal, predictedWide, noiseSigma * noiseSigma, noiseSigma * noiseSigma / 10, beyond, outward});
         if (iteration < PrintersReach::kIterationsBeyond - 1) EXPECT_EQ(reach.atLimitShare(), 0.0) << iteration;
     }
     EXPECT_TRUE(foundAny);
@@ -74,7 +78,7 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
         // Deep in the left third: the target is what the print shows there
         // (the shortfall's mean, within its noise); far right: unchanged.
         if (x > 5 && x < kSide / 3 - 6 && y > 6 && y < kSide - 6) {
-            EXPECT_NEAR(t.a, target.a - 6.0f, 1.0f) << x << " " << y;
+            EXPECT_NEAR(t.a, target.a - 6.0f, 0.5f) << x << " " << y;
             EXPECT_NEAR(t.L, target.L, 0.05f);
             EXPECT_NEAR(t.b, target.b, 0.05f);
         }
@@ -93,9 +97,11 @@ TEST(PrintersReach, LeavesTheErrorAcrossTheWayOutToTheLoop) {
     const size_t n = points.size();
     const Lab target{60, 40, 30};
     PrintersReach reach(n);
+    const std::vector<Lab> goal(n, target), predicted(n, Lab{target.L, target.a, target.b - 8});
+    const std::vector<uint8_t> beyond(n, 1);
+    const std::vector<std::array<float, 3>> outward(n, {2, 0, 0});
     for (int iteration = 0; iteration < 5; ++iteration)
-        reach.update(std::vector<Lab>(n, target), std::vector<Lab>(n, Lab{target.L, target.a, target.b - 8}), 0.01,
-                     std::vector<uint8_t>(n, 1), std::vector<std::array<float, 3>>(n, {2, 0, 0}));
+        reach.update({goal, predicted, goal, predicted, 0.01, 0.001, beyond, outward});
     EXPECT_EQ(reach.atLimitShare(), 0.0);
 }
 
