@@ -1,12 +1,13 @@
 // Options several commands share: --threads (a TBB limit for the command's
-// lifetime) and the render overrides --spp, --seed, --channel,
-// --channel-sampling and --integrator.
+// lifetime), the render overrides --spp, --seed, --channel,
+// --channel-sampling and --integrator, and the rendering intent.
 #pragma once
 
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
 #include "apps/arguments.h"
+#include "prepare/rendering_intent.h"
 #include "render/registry.h"
 #include "render/render.h"
 #include "render/scene_io.h"
@@ -22,6 +23,10 @@ inline const Option kChannelSamplingOption{"--channel-sampling", "separate|hero|
                                            "how rgb is sampled (docs/scene-format.md)"};
 inline Option integratorOption() { return {"--integrator", "NAME", "the estimator: " + integratorNames()}; }
 inline const Option kQuietOption{"--quiet", "", "no progress or summary on stderr"};
+inline const Option kIntentOption{"--intent", "colorimetric|perceptual",
+                                  "how colours the printer cannot show become printable: the nearest printable colour "
+                                  "(colorimetric, the default) or the whole of sRGB compressed into the gamut, keeping "
+                                  "hue and the order of lightness (perceptual)"};
 
 // --threads N (default: all cores) for as long as this object lives.
 class ThreadLimit {
@@ -34,6 +39,15 @@ public:
 private:
     tbb::global_control control_;
 };
+
+// --intent, if given (prepare/rendering_intent.h).
+inline std::optional<RenderingIntent> intentOption(const Arguments& args) {
+    const std::optional<std::string> name = args.value("--intent");
+    if (!name) return std::nullopt;
+    const std::optional<RenderingIntent> intent = parseEnum(kRenderingIntentNames, *name);
+    if (!intent) throw UsageError("--intent must be " + enumNames(kRenderingIntentNames));
+    return intent;
+}
 
 // Sets the estimator an option names, or says why it cannot run.
 inline void chooseIntegrator(RenderSettings& r, const std::string& name, const std::string& option) {

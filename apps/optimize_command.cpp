@@ -84,9 +84,7 @@ OptimizeSettings loopSettingsOf(const Arguments& args) {
     }
     os.gamutMap = !args.has("--no-gamut-map");
     os.spatialGamutMap = !args.has("--flat-gamut-map");
-    if (auto name = args.value("--intent")) {
-        const std::optional<RenderingIntent> intent = parseEnum(kRenderingIntentNames, *name);
-        if (!intent) throw UsageError("--intent must be colorimetric or perceptual");
+    if (auto intent = intentOption(args)) {
         if (!os.gamutMap) throw UsageError("--intent maps into the gamut: not with --no-gamut-map");
         os.intent = *intent;
     }
@@ -379,10 +377,7 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kChannelSamplingOption,
                     {"--gamut", "FILE", "the printer's characterisation (default: the material table's, made on first use)"},
                     {"--no-gamut-map", "", "aim at the target as given, not at its nearest printable colour"},
-                    {"--intent", "NAME",
-                     "how targets become printable: colorimetric (the nearest printable colour; the default) or "
-                     "perceptual (the whole target compressed into the gamut, keeping hue and the order of "
-                     "lightness)"},
+                    kIntentOption,
                     {"--flat-gamut-map", "",
                      "aim at the flat-face gamut's colours everywhere, also where the print proves it cannot show "
                      "them (edges, thin walls, fine detail)"},
@@ -433,16 +428,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000,mean_de2000_wide,outside_share,at_limit_share,spp,retraced_voxels,mean_samples\n";
+        "noise_de2000,mean_de2000_wide,outside_share,spp,retraced_voxels,mean_samples,at_limit_share\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
         char line[256];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%.4f,%u,%zu,%.1f\n",
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u,%zu,%.1f,%.4f\n",
                       it.iteration, it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel,
                       it.seconds, it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide,
-                      it.outsideShare, it.atLimitShare, it.spp, it.retracedVoxels, it.meanSamples);
+                      it.outsideShare, it.spp, it.retracedVoxels, it.meanSamples, it.atLimitShare);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);

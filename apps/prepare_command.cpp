@@ -119,6 +119,7 @@ bool mixesByGamut(const Arguments& args, bool haveMaterials) {
     if (mixing == "gamut" && !haveMaterials)
         throw UsageError("--mixing gamut needs --materials FILE (the printer's gamut is its materials')");
     if (args.has("--gamut") && mixing != "gamut") throw UsageError("--gamut goes with --mixing gamut");
+    if (args.has("--intent") && mixing != "gamut") throw UsageError("--intent goes with --mixing gamut");
     if (auto file = args.value("--gamut"); file && !std::filesystem::exists(*file))
         throw InputError(*file, "no such file (the printer's characterisation, --gamut)");
     return mixing == "gamut";
@@ -281,6 +282,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
                      "how a colour becomes a mixture of the resins: the printer's characterisation of the material "
                      "table (default with --materials or --scene-out; made on first use) or a simple subtractive model"},
                     {"--gamut", "FILE", "the printer's characterisation for --mixing gamut (default: the material table's)"},
+                    kIntentOption,
                     {"--halftone", "error-diffusion|thresholds|nearest", "how a mixture becomes resin labels"},
                     {"--fill", "conservative|center", "which voxels the mesh fills"},
                     {"--color", "R,G,B", "one linear colour for the whole surface instead of the model's"},
@@ -308,6 +310,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     MaterialsChoice materials(args, sceneOut, model);
     const std::optional<std::filesystem::path>& materialsFile = materials.file;
     const bool byGamut = mixesByGamut(args, materialsFile.has_value());
+    const RenderingIntent intent = intentOption(args).value_or(RenderingIntent::Colorimetric);
     refuseToOverwriteInputs(output, {model});
 
     // The model, then the pipeline (prepare/prepare_model.h).
@@ -323,6 +326,7 @@ int prepareCommand(const std::vector<std::string>& argv) {
     // The printer's gamut for the mixtures: characterised for this voxel
     // and shell (the scenes' IOR, 1.5).
     std::optional<PrinterGamut> gamut;
+    std::optional<PerceptualIntent> perceptual;
     std::optional<GamutMixing> gamutMixing;
     std::string mixingSource = "a simple subtractive model (--mixing simple)";
     if (byGamut) {
@@ -332,7 +336,9 @@ int prepareCommand(const std::vector<std::string>& argv) {
         auto say = [&](const std::string& line) { mixingSource = line; };
         if (auto file = args.value("--gamut")) gamut = readPrinterGamutFile(*file, *materialsFile, cs, say);
         else gamut = printerGamutFor(*materialsFile, cs, say);
-        gamutMixing.emplace(*gamut);
+        if (intent == RenderingIntent::Perceptual) perceptual.emplace(*gamut);
+        gamutMixing.emplace(*gamut, perceptual ? &*perceptual : nullptr);
+        mixingSource += std::string(", ") + enumName(kRenderingIntentNames, intent) + " intent";
         ps.mixtureFor = [&](const RGB& c) { return (*gamutMixing)(c); };
     }
     PreparedModel prepared = [&] {

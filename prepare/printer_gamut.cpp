@@ -1,5 +1,7 @@
 #include "prepare/printer_gamut.h"
 
+#include "prepare/rendering_intent.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -225,7 +227,8 @@ MaterialFractions GamutMixing::operator()(const RGB& linear) {
     const auto field = [](long tenths) { return uint64_t(tenths + 0x80000) & 0xfffff; };
     const uint64_t key = (field(L) << 40) | (field(a) << 20) | field(b);
     if (auto found = known_.find(key); found != known_.end()) return found->second;
-    return known_[key] = gamut_.closest(Lab{float(L) / 10.0f, float(a) / 10.0f, float(b) / 10.0f}).mixture;
+    const Lab rounded{float(L) / 10.0f, float(a) / 10.0f, float(b) / 10.0f};
+    return known_[key] = gamut_.closest(perceptual_ ? (*perceptual_)(rounded) : rounded).mixture;
 }
 
 }  // namespace pl

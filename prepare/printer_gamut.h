@@ -66,17 +66,23 @@ private:
     std::vector<Lab> denseColours_;
 };
 
+class PerceptualIntent;
+
 // prepare's mixtures from the gamut's inverse: each linear colour to the
-// mixture of its nearest printable colour, the colour first rounded to
-// 0.1 in CIELAB (a texture has few distinct colours, and the same rounded
-// colour gets the same mixture whatever the order). One thread at a time.
+// mixture of its nearest printable colour (after the perceptual intent's
+// compression, if given: prepare/rendering_intent.h), the colour first
+// rounded to 0.1 in CIELAB (a texture has few distinct colours, and the
+// same rounded colour gets the same mixture whatever the order). One
+// thread at a time.
 class GamutMixing {
 public:
-    explicit GamutMixing(const PrinterGamut& gamut) : gamut_(gamut) {}
+    explicit GamutMixing(const PrinterGamut& gamut, const PerceptualIntent* perceptual = nullptr)
+        : gamut_(gamut), perceptual_(perceptual) {}
     MaterialFractions operator()(const RGB& linear);
 
 private:
     const PrinterGamut& gamut_;
+    const PerceptualIntent* perceptual_;
     absl::flat_hash_map<uint64_t, MaterialFractions> known_;
 };
 

@@ -614,12 +614,18 @@ TEST(Cli, PrepareReadsGltfInMetresAndFitsToASize) {
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(r.err.find("--mixing gamut needs --materials"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(s.dir / "nogamut.vdb"));
-    r = printlight(prepare + "--fit-mm 4 --materials " + (s.dir / "materials.json").string() + smallGamut(s) +
+    r = printlight(prepare + "--intent perceptual -o " + (s.dir / "nogamut.vdb").string(), s.dir);
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.err.find("--intent goes with --mixing gamut"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(s.dir / "nogamut.vdb"));
+    r = printlight(prepare + "--fit-mm 4 --intent perceptual --materials " + (s.dir / "materials.json").string() +
+                       smallGamut(s) +
                        " --scene-out " + (s.dir / "fit").string() + " -o " + (s.dir / "fit.vdb").string(),
                    s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.out.find("mixtures:  the printer's gamut: " + (s.dir / "gamut.json").string()), std::string::npos)
         << r.out;
+    EXPECT_NE(r.out.find(", perceptual intent\n"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("4 x 4 x 4 mm (coordinates in m: glTF coordinates are metres; --fit-mm: scaled by 2)"),
               std::string::npos)
         << r.out;
@@ -1041,7 +1047,9 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
             EXPECT_GE(rows[i][11], rows[i - 1][11]) << r.out;
         }
     }
-    EXPECT_NE(r.out.find("mapping loss"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("mapping loss (the target as given -> printable colours, colorimetric intent)"),
+              std::string::npos)
+        << r.out;
     // The judge by default: 64 sampled footprints, in rounds until its
     // noise over the footprint is under 0.5, or its most samples; the mean
     // error with its 95 % interval.
@@ -1128,7 +1136,8 @@ TEST(Cli, OptimizeByThresholdsWithPredictionsThatCarryOver) {
     CliRun junk = printlight("bench " + s.write().string() + " --loop " + (s.dir / "out" / "junk.bin").string(), s.dir);
     EXPECT_EQ(junk.exitCode, 1) << junk.err;
     EXPECT_NE(junk.err.find("junk.bin"), std::string::npos) << junk.err;
-    for (const char* bad : {" --carry-over sometimes", " --halftone dots", " --hysteresis 0.7"}) {
+    for (const char* bad : {" --carry-over sometimes", " --halftone dots", " --hysteresis 0.7", " --intent vivid",
+                            " --intent perceptual --no-gamut-map"}) {
         CliRun r = printlight("optimize " + s.write().string() + " --target 0.2,0.45,0.8" + bad, s.dir);
         EXPECT_EQ(r.exitCode, 2) << bad << r.err;
         EXPECT_NE(r.err.find(std::string(bad).substr(1, std::string(bad).find(' ', 1) - 1)), std::string::npos)
@@ -1144,13 +1153,15 @@ TEST(Cli, OptimizeWithTheFastPredictorIsJudgedApart) {
     TestScene s("optimize_auto");
     fs::path prefix = s.dir / "out" / "opt";
     CliRun r = printlight("optimize " + s.write().string() + smallGamut(s) +
-                              " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 --judge-footprints 0 -o " +
+                              " --target 0.2,0.45,0.8 --iterations 6 --predictor auto --judge-spp 8 --judge-footprints 0 "
+                              "--intent perceptual -o " +
                                   prefix.string(),
                           s.dir);
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const auto cells = readCsvCells(prefix.string() + ".csv");
     ASSERT_GE(cells.size(), 3u);  // iterations 0-6, or fewer once the score stops falling
     ASSERT_LE(cells.size(), 7u);
+    EXPECT_NE(r.out.find("perceptual intent"), std::string::npos) << r.out;
     EXPECT_EQ(cells[0][7], "diffusion");
     EXPECT_EQ(cells.back()[7], "volpath");  // Monte Carlo by the end (diffusion's score flattens)
     const auto rows = readCsvNumbers(prefix.string() + ".csv");
