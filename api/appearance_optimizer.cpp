@@ -145,16 +145,17 @@ std::vector<PrinterGamut::Match> matchesOf(const PrinterGamut& gamut, const std:
 // the whole surface's, with 95 % intervals.
 void judgeSampledFootprints(const FootprintSample& sample, const std::array<std::vector<RGB>, 2>& halves,
                             const std::vector<RGB>& mapped, const std::vector<RGB>& mappedSampled,
-                            OptimizeJudgement& j) {
+                            const std::vector<RGB>& flatSampled, OptimizeJudgement& j) {
     const std::vector<RGB> a = sample.apply(halves[0]), b = sample.apply(halves[1]);
     const size_t m = sample.size();
-    std::vector<double> error(m), noise(m), square(m);
+    std::vector<double> error(m), noise(m), square(m), flatError(m);
     std::vector<float> centreError(m), centreNoise(m);
     for (size_t k = 0; k < m; ++k) {
         const FootprintError e = footprintError(a[k], b[k], mappedSampled[k]);
         error[k] = e.deltaE;
         noise[k] = e.noiseDeltaE;
         square[k] = e.squareNoiseRemoved;
+        flatError[k] = footprintError(a[k], b[k], flatSampled[k]).deltaE;
         const uint32_t c = sample.centres()[k];
         const FootprintError own = footprintError(halves[0][c], halves[1][c], mapped[c]);
         centreError[k] = float(own.deltaE);
@@ -164,6 +165,7 @@ void judgeSampledFootprints(const FootprintSample& sample, const std::array<std:
     const DeltaEStats perVoxel = meanAndP95(centreError);
     j.meanDeltaEFiltered = filtered.mean;
     j.meanDeltaEFilteredHalfWidth95 = filtered.halfWidth95;
+    j.meanDeltaEFilteredFlatFace = stratifiedMean(flatError).mean;
     j.p95DeltaEFiltered = meanAndP95(std::vector<float>(error.begin(), error.end())).p95;
     j.meanDeltaE = perVoxel.mean;
     j.p95DeltaE = perVoxel.p95;
@@ -182,18 +184,20 @@ void judgeSampledFootprints(const FootprintSample& sample, const std::array<std:
 // the neighbourhoods of a stratified random sample of footprints, whose
 // mean error estimates the whole surface's with a 95 % interval.
 OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& settings, const std::string& integrator,
-                             const SurfaceGaussian& eye, const std::vector<RGB>& mapped, const RGB& environment) {
+                             const SurfaceGaussian& eye, const std::vector<RGB>& mapped,
+                             const std::vector<RGB>& flatMapped, const RGB& environment) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool fixed = settings.judgeSpp > 0;
     const uint32_t mostPerHalf = std::max(1u, (fixed ? settings.judgeSpp : settings.judgeMostSpp) / 2);
     predictor.settings().integrator = integrator;
     predictor.carryOver().enabled = false;  // independent renders
     std::optional<FootprintSample> sample;
-    std::vector<RGB> mappedSampled;
+    std::vector<RGB> mappedSampled, flatSampled;
     if (settings.judgeFootprints > 0) {
         sample.emplace(predictor.surfacePoints_mm(), eye, kEyeFootprint_mm, settings.judgeFootprints,
                        settings.judgeSeed);
         mappedSampled = sample->apply(mapped);
+        flatSampled = sample->apply(flatMapped);
     }
     std::array<std::vector<RGB>, 2> sum;  // radiance times samples, per half
     uint32_t perHalf = 0, next = fixed ? mostPerHalf : std::min(4u, mostPerHalf);
@@ -221,7 +225,7 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
         }
         const bool last = [&] {
             if (sample) {
-                judgeSampledFootprints(*sample, halves, mapped, mappedSampled, j);
+                judgeSampledFootprints(*sample, halves, mapped, mappedSampled, flatSampled, j);
             } else {
                 const SplitRenderError e = splitRenderError(eye, halves[0], halves[1], mapped);
                 j.meanDeltaE = e.error.mean;
@@ -233,6 +237,9 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
                 j.rmsDeltaEFilteredNoiseRemoved = e.rmsFilteredNoiseRemoved;
                 j.judgedSeen = e.meanSeen;
                 j.deltaESeen = e.deltaESeen;
+                j.meanDeltaEFilteredFlatFace =
+                    &flatMapped == &mapped ? e.error.meanFiltered
+                                           : splitRenderError(eye, halves[0], halves[1], flatMapped).error.meanFiltered;
             }
             return fixed || j.noiseDeltaEFiltered <= settings.judgeNoiseDeltaE || perHalf >= mostPerHalf;
         }();
@@ -340,20 +347,24 @@ SeenPrediction seePrediction(const SurfacePrediction& p, const RGB& environment,
     return s;
 }
 
+// Mean CIEDE2000 between two lists of colours.
+double meanDeltaE(const std::vector<Lab>& x, const std::vector<Lab>& y) {
+    double sum = 0;
+    for (size_t i = 0; i < x.size(); ++i) sum += ciede2000(x[i], y[i]);
+    return x.empty() ? 0.0 : sum / double(x.size());
+}
+
 // The iteration's scores: over the footprint, per voxel, the noise's share
 // and the wide score the best is chosen by.
 void scoreIteration(const SeenPrediction& s, const LoopGoal& goal, const std::vector<RGB>& mapped, bool noisy,
                     OptimizeIteration& it) {
-    const size_t n = s.predicted.size();
     const DeltaEStats overFootprint = deltaEStats(s.overFootprint, goal.mappedSeen), raw = deltaEStats(s.predicted, mapped);
     it.meanDeltaE = overFootprint.mean;
     it.p95DeltaE = overFootprint.p95;
     it.meanDeltaEPerVoxel = raw.mean;
     it.p95DeltaEPerVoxel = raw.p95;
     if (noisy) it.noiseDeltaE = deltaEStats(s.overFootprintMoved, s.overFootprint).mean;
-    double wideSum = 0;
-    for (size_t i = 0; i < n; ++i) wideSum += ciede2000(s.wideLab[i], goal.goalWide[i]);
-    it.meanDeltaEWide = wideSum / double(n);
+    it.meanDeltaEWide = meanDeltaE(s.wideLab, goal.goalWide);
 }
 
 // Each voxel's request and its mixture, moved by the error the eye sees
@@ -429,6 +440,14 @@ public:
     }
     // A new noise level starts a new averaging: Kesten's counts restart.
     void restartAveraging() { std::fill(reversals_.begin(), reversals_.end(), uint16_t(0)); }
+    // Where the wide target moved (by over 0.5 Delta E*ab), the last error
+    // is forgotten: the jump is not a turn of the error.
+    void forgetErrorsWhereMoved(const std::vector<Lab>& before, const std::vector<Lab>& after) {
+        for (size_t i = 0; i < before.size(); ++i) {
+            const LabVector d = difference(after[i], before[i]);
+            if (dot(d, d) > 0.25) previousError_[i] = {0, 0, 0};
+        }
+    }
 
 private:
     std::vector<Lab> previousRequest_, previousSeen_;  // the wide request before, its wide prediction
@@ -539,7 +558,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         it.spp = predictor.settings().spp;
         it.retracedVoxels = p.retracedVoxels;
         for (uint32_t s : p.samples) it.meanSamples += double(s) / double(n);
-        scoreIteration(now, goal, aim.mapped, noisy, it);
+        scoreIteration(now, goal, aim.reachable, noisy, it);
         // A new best only if it beats the last by a margin, on the wide
         // score: at the footprint the predictions' noise dominates the score
         // and hides what the loop still changes.
@@ -572,17 +591,18 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
             // Where the print proved at the printer's limit, the targets
-            // become what it can show there (the fast predictor's edges are
-            // not the print's: Monte Carlo's evidence only); the best so far
-            // is scored again against them.
-            if (mapToReach && !onFast &&
+            // become what it can show there (Monte Carlo's evidence only: a
+            // deterministic predictor's edges are not the print's); the
+            // best so far is scored again against them, and the moved
+            // targets' errors start a new history.
+            if (mapToReach && noisy &&
                 reach.update({goal.goal, nowOverUpdate, goal.goalWide, now.wideLab, now.noiseVariance,
                               now.noiseVarianceWide, steps.outside(), steps.outward()})) {
-                aim.reachable = reach.reachable(aim.mapped, goal.eye);
+                const std::vector<Lab> before = goal.goalWide;
+                aim.reachable = reach.remap(aim.mapped, goal.eye);
                 goal.aimAt(aim.reachable);
-                double sum = 0;
-                for (size_t i = 0; i < n; ++i) sum += ciede2000(bestWideLab[i], goal.goalWide[i]);
-                bestScore = sum / double(n);
+                steps.forgetErrorsWhereMoved(before, goal.goalWide);
+                bestScore = meanDeltaE(bestWideLab, goal.goalWide);
             }
             it.atLimitShare = reach.atLimitShare();
         }
@@ -603,6 +623,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);
             raisedAt = iteration;
             steps.restartAveraging();
+            reach.restartRuns();
         }
         p = predictor.predict();
     }
@@ -618,7 +639,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.reachable, environment);
+        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.reachable, aim.mapped, environment);
     }
     return result;
 }
@@ -627,7 +648,7 @@ OptimizeJudgement judgeLabels(Predictor& predictor, const OptimizeSettings& sett
     const std::string integrator =
         settings.judgeIntegrator.empty() ? predictor.settings().integrator : settings.judgeIntegrator;
     const SurfaceGaussian eye(predictor.surfacePoints_mm(), kEyeFootprint_mm);
-    return judgePrint(predictor, settings, integrator, eye, mapped, predictor.environment());
+    return judgePrint(predictor, settings, integrator, eye, mapped, mapped, predictor.environment());
 }
 
 }  // namespace pl

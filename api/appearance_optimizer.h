@@ -152,6 +152,10 @@ struct OptimizeJudgement {
     // mean over the footprint (mean +- half width), and of the root mean
     // square below.
     double meanDeltaEFilteredHalfWidth95 = 0, rmsLow95 = 0, rmsHigh95 = 0;
+    // The mean over the footprint from the same renders against the
+    // flat-face gamut's targets (without the printer's limits the loop
+    // found: api/printers_reach.h).
+    double meanDeltaEFilteredFlatFace = 0;
     // The mean CIEDE2000 the judge's own noise makes, per voxel and over
     // the footprint (part of the errors above).
     double noiseDeltaE = 0, noiseDeltaEFiltered = 0;
@@ -180,8 +184,8 @@ struct OptimizeResult {
     // reflectance): the judge's reference.
     std::vector<RGB> aimedAt;
     // Per surface voxel over the eye's footprint: the target as given, as
-    // mapped, the best iteration's prediction, and CIEDE2000 between the
-    // last two.
+    // aimed at in the end, the best iteration's prediction, and CIEDE2000
+    // between the last two.
     std::vector<RGB> targetSeen, mappedSeen, predictedSeen;
     std::vector<float> deltaESeen;
     // Per surface voxel: whether the print is at the printer's limit there

@@ -17,8 +17,7 @@ bool PrintersReach::update(const Evidence& e) {
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
         if (atLimit_[i]) return;
         if (!e.beyond[i]) {
-            run_[i] = 0;
-            outwardSum_[i] = errorSum_[i] = errorWideSum_[i] = {0, 0, 0};
+            clearRun(i);
             return;
         }
         const std::array<float, 3>& o = e.outward[i];
@@ -49,7 +48,7 @@ bool PrintersReach::update(const Evidence& e) {
         const double shrink = detail != 0 ? std::max(0.0, 1.0 - detailVariance / (detail * detail)) : 0.0;
         const double shortfall = alongWide + shrink * detail;
         const double variance = e.noiseVarianceWide / runs + shrink * shrink * detailVariance;
-        if (shortfall <= 3 * std::sqrt(variance)) return;
+        if (shortfall <= std::max(kLeastShortfall, 3 * std::sqrt(variance))) return;
         for (size_t c = 0; c < 3; ++c) shift_[i][c] = float(-shortfall * u[c] / uLength);
         atLimit_[i] = 1;
         found[i] = 1;
@@ -57,16 +56,29 @@ bool PrintersReach::update(const Evidence& e) {
     return std::find(found.begin(), found.end(), uint8_t(1)) != found.end();
 }
 
-std::vector<RGB> PrintersReach::reachable(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) const {
+std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) {
     std::vector<RGB> shift(shift_.size());
     for (size_t i = 0; i < shift.size(); ++i) shift[i] = {shift_[i][0], shift_[i][1], shift_[i][2]};
-    const std::vector<RGB> smooth = eye.apply(shift);
+    // Where the eye sees the target move, runs under way start again.
+    const std::vector<RGB> seen = eye.apply(shift);
     std::vector<RGB> out(mapped.size());
     tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
         const Lab m = labFromLinearSrgb(mapped[i]);
-        out[i] = linearSrgbFromLab({m.L + smooth[i][0], m.a + smooth[i][1], m.b + smooth[i][2]});
+        out[i] = linearSrgbFromLab({m.L + shift[i][0], m.a + shift[i][1], m.b + shift[i][2]});
+        const RGB& d = seen[i];
+        if (!atLimit_[i] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.25) clearRun(i);
     });
     return out;
+}
+
+void PrintersReach::restartRuns() {
+    for (size_t i = 0; i < run_.size(); ++i)
+        if (!atLimit_[i]) clearRun(i);
+}
+
+void PrintersReach::clearRun(size_t i) {
+    run_[i] = 0;
+    outwardSum_[i] = errorSum_[i] = errorWideSum_[i] = {0, 0, 0};
 }
 
 double PrintersReach::atLimitShare() const {

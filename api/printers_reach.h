@@ -7,9 +7,10 @@
 // the direction the request was pushed out of the gamut is the printer's
 // limit there, not the loop's error. That shortfall, once significant
 // against the predictions' noise, is taken off the voxel's target
-// (frozen: the loop no longer chases it) and the shifts are smoothed over
-// the eye's footprint so the re-mapped targets show no seam. What is
-// left, the error across that direction and everywhere else, is the loop's.
+// (frozen: the loop no longer chases it). The shortfall is measured over
+// the eye's footprint, as the loop and the judge see the targets, so the
+// re-mapped targets show no seam there. What is left, the error across
+// that direction and everywhere else, is the loop's.
 #pragma once
 
 #include <array>
@@ -24,8 +25,9 @@ namespace pl {
 class PrintersReach {
 public:
     // Iterations in a row a request must lie beyond the gamut before its
-    // shortfall is measured.
+    // shortfall is measured, and the least shortfall kept (Delta E*ab).
     static constexpr int kIterationsBeyond = 3;
+    static constexpr double kLeastShortfall = 1.0;
 
     explicit PrintersReach(size_t voxels);
 
@@ -47,15 +49,21 @@ public:
     // blotched by noise on faces).
     bool update(const Evidence& e);
 
-    // The targets with the limits found taken off, smoothed over `eye`
-    // (linear sRGB reflectance per surface voxel).
-    std::vector<RGB> reachable(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) const;
+    // The targets with the limits found taken off (linear sRGB reflectance
+    // per surface voxel). Runs under way start again where the target
+    // moved (their sums were against the old one).
+    std::vector<RGB> remap(const std::vector<RGB>& mapped, const SurfaceGaussian& eye);
+
+    // A new noise level (the predictions' samples went up): runs under way
+    // start again (their sums were tested against the old noise).
+    void restartRuns();
 
     // Per surface voxel: whether it is at the printer's limit.
     const std::vector<uint8_t>& atLimit() const { return atLimit_; }
     double atLimitShare() const;
 
 private:
+    void clearRun(size_t voxel);
     // Per voxel: the iterations in a row beyond the gamut, the sums over
     // them of the shortfall's direction and of the target minus the
     // prediction at both scales; and, once at the limit, the shift of its

@@ -171,8 +171,9 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
                 enumName(kRenderingIntentNames, os.intent), loss.meanFiltered, loss.p95Filtered, kEyeFootprint_mm,
                 os.gamutMap ? "" : " (not applied: --no-gamut-map)");
     if (os.gamutMap && os.spatialGamutMap)
-        std::printf("  of which the flat-face gamut's %.3f; the rest where the print proved at the printer's limit (%.1f "
-                    "%% of the surface: edges, thin walls, fine detail), whose targets became what it shows there\n",
+        std::printf("  (the flat-face gamut alone: %.3f; beyond it, where the loop found the print at the printer's "
+                    "limit (%.1f %% of the surface: edges, thin walls, fine detail), the targets became what it shows "
+                    "there)\n",
                     result.mappingLossFlatFace.meanFiltered,
                     100.0 * double(std::count(result.atPrintersLimit.begin(), result.atPrintersLimit.end(), 1)) /
                         double(std::max<size_t>(1, result.atPrintersLimit.size())));
@@ -192,7 +193,8 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
         std::printf("(the loop's own scores: the first by %s's prediction, the last by %s's; the judge compares "
                     "like with like)\n",
                     its.front().predictor.c_str(), its.back().predictor.c_str());
-    if (const auto& j = result.judgement; j && j->footprints > 0) {
+    const auto& j = result.judgement;
+    if (j && j->footprints > 0) {
         std::printf("judged apart on %zu footprints sampled over the surface (%s, %zu voxels, %u spp in %d round%s, "
                     "seed %llu, %.1f s): loop error (mapped target -> print) over the eye's %g mm footprint %.3f +- "
                     "%.3f (95 %% interval of the whole surface's mean), 95th percentile %.3f\n",
@@ -213,6 +215,10 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
                     "voxel); with it taken out, the loop error's root mean square over the footprint is %.3f\n",
                     j->noiseDeltaEFiltered, j->noiseDeltaE, j->rmsDeltaEFilteredNoiseRemoved);
     }
+    if (j && os.gamutMap && os.spatialGamutMap)
+        std::printf("the same renders against the flat-face gamut's targets (the printer's limits counted as the "
+                    "loop's): %.3f over the footprint\n",
+                    j->meanDeltaEFilteredFlatFace);
 }
 
 // What optimize writes under its prefix.

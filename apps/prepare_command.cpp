@@ -337,7 +337,9 @@ int prepareCommand(const std::vector<std::string>& argv) {
         if (auto file = args.value("--gamut")) gamut = readPrinterGamutFile(*file, *materialsFile, cs, say);
         else gamut = printerGamutFor(*materialsFile, cs, say);
         if (intent == RenderingIntent::Perceptual) perceptual.emplace(*gamut);
-        gamutMixing.emplace(*gamut, perceptual ? &*perceptual : nullptr);
+        std::function<Lab(const Lab&)> compress;
+        if (perceptual) compress = [&](const Lab& c) { return (*perceptual)(c); };
+        gamutMixing.emplace(*gamut, compress);
         mixingSource += std::string(", ") + enumName(kRenderingIntentNames, intent) + " intent";
         ps.mixtureFor = [&](const RGB& c) { return (*gamutMixing)(c); };
     }

@@ -8,11 +8,11 @@ namespace {
 constexpr double kPiD = 3.14159265358979323846;
 double degrees(double radians) { return radians * 180.0 / kPiD; }
 double radians(double degrees) { return degrees * kPiD / 180.0; }
-}  // namespace
 
 // sRGB primaries, D65 white (IEC 61966-2-1), white normalised to Y = 1.
 constexpr double kXn = 0.95047, kYn = 1.0, kZn = 1.08883;
 constexpr double kLabDelta = 6.0 / 29.0;
+}  // namespace
 
 Lab labFromLinearSrgb(const RGB& rgb) {
     const double r = rgb[0], g = rgb[1], b = rgb[2];
@@ -37,6 +37,11 @@ RGB linearSrgbFromLab(const Lab& lab) {
     const double X = kXn * finv(fy + lab.a / 500.0), Y = kYn * finv(fy), Z = kZn * finv(fy - lab.b / 200.0);
     return {float(3.2404542 * X - 1.5371385 * Y - 0.4985314 * Z), float(-0.9692660 * X + 1.8760108 * Y + 0.0415560 * Z),
             float(0.0556434 * X - 0.2040259 * Y + 1.0572252 * Z)};
+}
+
+double hueDegrees(const Lab& lab) {
+    const double h = degrees(std::atan2(double(lab.b), double(lab.a)));
+    return h < 0 ? h + 360 : h;
 }
 
 double ciede2000(const Lab& x, const Lab& y) {

@@ -16,6 +16,9 @@ Lab labFromLinearSrgb(const RGB& rgb);
 // And back (not clamped: a colour outside sRGB has components outside [0, 1]).
 RGB linearSrgbFromLab(const Lab& lab);
 
+// CIELAB's hue angle h_ab in degrees, [0, 360).
+double hueDegrees(const Lab& lab);
+
 // CIEDE2000 with kL = kC = kH = 1.
 double ciede2000(const Lab& x, const Lab& y);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace pl {
 
@@ -12,13 +13,13 @@ namespace {
 // linear (segment maxima: a fine grid leaves it a little inside the true
 // boundary, never far outside).
 std::vector<std::pair<double, double>> segmentMaxima(std::vector<std::pair<double, double>> points, double darkest,
-                                                     double lightest, double binL) {
+                                                     double lightest, double bandL) {
     std::sort(points.begin(), points.end());
     std::vector<std::pair<double, double>> maxima{{darkest, 0.0}};
     for (size_t k = 0; k < points.size();) {
-        const double binEnd = darkest + binL * (std::floor((points[k].first - darkest) / binL) + 1);
+        const double bandEnd = darkest + bandL * (std::floor((points[k].first - darkest) / bandL) + 1);
         std::pair<double, double> best = points[k];
-        for (; k < points.size() && points[k].first < binEnd; ++k)
+        for (; k < points.size() && points[k].first < bandEnd; ++k)
             if (points[k].second > best.second) best = points[k];
         if (best.first > maxima.back().first) maxima.push_back(best);
     }
@@ -26,13 +27,10 @@ std::vector<std::pair<double, double>> segmentMaxima(std::vector<std::pair<doubl
     return maxima;
 }
 
-double hueOf(const Lab& c) {
-    const double h = std::atan2(double(c.b), double(c.a)) * 180.0 / double(kPi);
-    return h < 0 ? h + 360 : h;
-}
 }  // namespace
 
 GamutBoundary::GamutBoundary(const PrinterGamut& gamut, int levels, int hueSlices) {
+    if (levels < 1 || hueSlices < 1) throw std::invalid_argument("GamutBoundary: at least one level and one hue slice");
     std::vector<Lab> colours;
     for (const MaterialFractions& m : PrinterGamut::gridMixtures(levels)) colours.push_back(gamut.colour(m));
     darkestL_ = lightestL_ = colours.front().L;
@@ -43,12 +41,31 @@ GamutBoundary::GamutBoundary(const PrinterGamut& gamut, int levels, int hueSlice
     std::vector<Slice> points(static_cast<size_t>(hueSlices));
     const double width = 360.0 / hueSlices;
     for (const Lab& c : colours) {
-        const int slice = std::min(hueSlices - 1, int(hueOf(c) / width));
+        const int slice = std::min(hueSlices - 1, int(hueDegrees(c) / width));
         points[size_t(slice)].push_back({c.L, std::hypot(double(c.a), double(c.b))});
     }
     slices_.reserve(size_t(hueSlices));
-    const double binL = 2.0;
-    for (auto& p : points) slices_.push_back(segmentMaxima(std::move(p), darkestL_, lightestL_, binL));
+    constexpr double kBandL = 2.0;  // of lightness, in L* units
+    std::vector<bool> empty(points.size());
+    for (size_t k = 0; k < points.size(); ++k) {
+        empty[k] = points[k].empty();
+        slices_.push_back(segmentMaxima(std::move(points[k]), darkestL_, lightestL_, kBandL));
+    }
+    // A hue no grid colour falls in takes its nearest neighbour's slice
+    // (not a chroma of 0, which would send every colour of it to grey).
+    const int n = hueSlices;
+    std::vector<Slice> filled = slices_;
+    for (int k = 0; k < n; ++k) {
+        if (!empty[size_t(k)]) continue;
+        for (int d = 1; d <= n / 2; ++d) {
+            const int before = (k - d + n) % n, after = (k + d) % n;
+            if (!empty[size_t(before)]) filled[size_t(k)] = slices_[size_t(before)];
+            else if (!empty[size_t(after)]) filled[size_t(k)] = slices_[size_t(after)];
+            else continue;
+            break;
+        }
+    }
+    slices_ = std::move(filled);
 }
 
 double GamutBoundary::chromaOn(const Slice& slice, double L) {

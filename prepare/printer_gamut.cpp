@@ -1,7 +1,5 @@
 #include "prepare/printer_gamut.h"
 
-#include "prepare/rendering_intent.h"
-
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -228,7 +226,7 @@ MaterialFractions GamutMixing::operator()(const RGB& linear) {
     const uint64_t key = (field(L) << 40) | (field(a) << 20) | field(b);
     if (auto found = known_.find(key); found != known_.end()) return found->second;
     const Lab rounded{float(L) / 10.0f, float(a) / 10.0f, float(b) / 10.0f};
-    return known_[key] = gamut_.closest(perceptual_ ? (*perceptual_)(rounded) : rounded).mixture;
+    return known_[key] = gamut_.closest(compress_ ? compress_(rounded) : rounded).mixture;
 }
 
 }  // namespace pl

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -66,23 +67,21 @@ private:
     std::vector<Lab> denseColours_;
 };
 
-class PerceptualIntent;
-
 // prepare's mixtures from the gamut's inverse: each linear colour to the
-// mixture of its nearest printable colour (after the perceptual intent's
-// compression, if given: prepare/rendering_intent.h), the colour first
+// mixture of its nearest printable colour (after `compress`, if given: a
+// rendering intent's, prepare/rendering_intent.h), the colour first
 // rounded to 0.1 in CIELAB (a texture has few distinct colours, and the
 // same rounded colour gets the same mixture whatever the order). One
 // thread at a time.
 class GamutMixing {
 public:
-    explicit GamutMixing(const PrinterGamut& gamut, const PerceptualIntent* perceptual = nullptr)
-        : gamut_(gamut), perceptual_(perceptual) {}
+    explicit GamutMixing(const PrinterGamut& gamut, std::function<Lab(const Lab&)> compress = {})
+        : gamut_(gamut), compress_(std::move(compress)) {}
     MaterialFractions operator()(const RGB& linear);
 
 private:
     const PrinterGamut& gamut_;
-    const PerceptualIntent* perceptual_;
+    std::function<Lab(const Lab&)> compress_;
     absl::flat_hash_map<uint64_t, MaterialFractions> known_;
 };
 

@@ -36,8 +36,8 @@ Lab PerceptualIntent::operator()(const Lab& source) const {
     const double p = lightnessWeight(C);
     const double L = (1 - p) * source.L + p * (darkest + scale * source.L);
     if (C < 1e-6) return {float(L), source.a, source.b};
-    const double hue = std::atan2(double(source.b), double(source.a));
-    const double hue_deg = hue * 180.0 / double(kPi), cosHue = std::cos(hue), sinHue = std::sin(hue);
+    const double hue_deg = hueDegrees(source), hue = hue_deg * double(kPi) / 180.0;
+    const double cosHue = std::cos(hue), sinHue = std::sin(hue);
     // The ray from the hue's cusp lightness on the neutral axis through the
     // colour, in the (L*, C*) plane of its hue.
     const double focus = boundary_.cuspLightness(hue_deg);
@@ -57,12 +57,13 @@ Lab PerceptualIntent::operator()(const Lab& source) const {
     };
     const double toGamut = reach(inGamut, 300.0);
     const double toSource = std::max(reach(inSource, 300.0), distance);
+    // Beyond the knee, the rest of the way to sRGB's boundary into the
+    // rest of the way to the gamut's; where sRGB ends first, nothing moves
+    // (SGCK never pushes a colour outwards).
     double mapped = distance;
-    if (distance > kKnee * toGamut) {
-        const double knee = kKnee * toGamut;
-        mapped = toSource > knee ? knee + (distance - knee) * (toGamut - knee) / (toSource - knee) : distance;
-        mapped = std::min(mapped, toGamut);
-    }
+    const double knee = kKnee * toGamut;
+    if (distance > knee && toSource > toGamut)
+        mapped = knee + (distance - knee) * (toGamut - knee) / (toSource - knee);
     const double l = focus + mapped * uL, c = mapped * uC;
     return {float(l), float(c * cosHue), float(c * sinHue)};
 }
