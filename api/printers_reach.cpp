@@ -9,7 +9,7 @@ namespace pl {
 
 PrintersReach::PrintersReach(size_t voxels)
     : run_(voxels, 0), outwardSum_(voxels, {0, 0, 0}), errorSum_(voxels, {0, 0, 0}), errorWideSum_(voxels, {0, 0, 0}),
-      shift_(voxels, {0, 0, 0}), atLimit_(voxels, 0) {}
+      shift_(voxels, {0, 0, 0}), atLimit_(voxels, 0), seenShift_(voxels, RGB{0, 0, 0}) {}
 
 bool PrintersReach::update(const Evidence& e) {
     const size_t n = run_.size();
@@ -59,15 +59,17 @@ bool PrintersReach::update(const Evidence& e) {
 std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) {
     std::vector<RGB> shift(shift_.size());
     for (size_t i = 0; i < shift.size(); ++i) shift[i] = {shift_[i][0], shift_[i][1], shift_[i][2]};
-    // Where the eye sees the target move, runs under way start again.
+    // Where the eye sees the target move since the last time (by over 0.5
+    // Delta E*ab), runs under way start again.
     const std::vector<RGB> seen = eye.apply(shift);
     std::vector<RGB> out(mapped.size());
     tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
         const Lab m = labFromLinearSrgb(mapped[i]);
         out[i] = linearSrgbFromLab({m.L + shift[i][0], m.a + shift[i][1], m.b + shift[i][2]});
-        const RGB& d = seen[i];
+        const RGB d{seen[i][0] - seenShift_[i][0], seen[i][1] - seenShift_[i][1], seen[i][2] - seenShift_[i][2]};
         if (!atLimit_[i] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.25) clearRun(i);
     });
+    seenShift_ = seen;
     return out;
 }
 

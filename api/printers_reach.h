@@ -71,6 +71,7 @@ private:
     std::vector<uint16_t> run_;
     std::vector<std::array<float, 3>> outwardSum_, errorSum_, errorWideSum_, shift_;
     std::vector<uint8_t> atLimit_;
+    std::vector<RGB> seenShift_;  // the shifts over the eye's footprint at the last remap
 };
 
 }  // namespace pl

@@ -303,21 +303,25 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
                   judgedEverywhere ? "judge's colours" : "loop's best prediction", 100.0 * atLimitShare);
     std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
     if (judgement && !judgedEverywhere) {
-        char text[320];
+        char text[400];
         std::snprintf(text, sizeof text,
                       " Judged apart on %zu footprints sampled over the surface (%s, %u spp): loop error %.2f +- %.2f "
-                      "(95 %% interval), its noise %.2f (%.2f root mean square with the noise taken out); the "
-                      "prediction and error views are the loop's best prediction, its noise included.",
+                      "(95 %% interval; %.2f against the flat-face gamut's targets), its noise %.2f (%.2f root mean "
+                      "square with the noise taken out); the prediction and error views are the loop's best "
+                      "prediction, its noise included.",
                       judgement->footprints, judgement->integrator.c_str(), judgement->spp,
                       judgement->meanDeltaEFiltered, judgement->meanDeltaEFilteredHalfWidth95,
-                      judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
+                      judgement->meanDeltaEFilteredFlatFace, judgement->noiseDeltaEFiltered,
+                      judgement->rmsDeltaEFilteredNoiseRemoved);
         judged = text;
     } else if (judgement) {
-        char text[240];
+        char text[320];
         std::snprintf(text, sizeof text,
-                      " Judged apart (%s, %u spp): loop error %.2f, its noise %.2f (%.2f root mean square with the noise "
-                      "taken out); the prediction and error views are the judge's.",
+                      " Judged apart (%s, %u spp): loop error %.2f (%.2f against the flat-face gamut's targets), its "
+                      "noise %.2f (%.2f root mean square with the noise taken out); the prediction and error views are "
+                      "the judge's.",
                       judgement->integrator.c_str(), judgement->spp, judgement->meanDeltaEFiltered,
+                      judgement->meanDeltaEFilteredFlatFace,
                       judgement->noiseDeltaEFiltered, judgement->rmsDeltaEFilteredNoiseRemoved);
         judged = text;
     }
