@@ -303,7 +303,9 @@ struct LoopGoal {
     }
     void aimAt(const std::vector<RGB>& mapped) {
         mappedSeen = eye.apply(mapped);
-        goal = labsOf(updateFiltered(mapped));
+        // The update's footprint is the eye's unless set otherwise: filtered once.
+        const bool ownFootprint = settings.updateFootprint_mm <= 0 || ownUpdateFilter;
+        goal = labsOf(ownFootprint ? updateFiltered(mapped) : mappedSeen);
         goalWide = labsOf(wide.apply(mapped));
     }
     const OptimizeSettings& settings;
