@@ -475,7 +475,8 @@ void restoreBestLabels(Predictor& predictor, const LabelGrid& best, const VoxelI
 // more samples, or switching from the fast predictor to Monte Carlo.
 struct NextStep {
     std::string stop;  // "" to go on
-    bool moreSamples = false, switchToMonteCarlo = false;
+    bool switchToMonteCarlo = false;
+    uint32_t moreSpp = 0;  // > 0: the samples per pixel to go up to
 };
 
 // onFast: the iteration was the fast predictor's; raisedAt: the iteration
@@ -495,7 +496,8 @@ NextStep nextStep(const OptimizeSettings& settings, const OptimizeResult& result
     if (next.stop.empty() && settings.patience > 0 && !onFast && iteration > 0 &&
         iteration - std::max(result.bestIteration, raisedAt) >= settings.patience) {
         // Stalled on the predictions' noise: first fewer of it, then stop.
-        if (noisy && spp < settings.mostSpp) next.moreSamples = true;
+        const uint32_t most = it.noiseDeltaE > settings.noiseTargetDeltaE ? 4 * settings.mostSpp : settings.mostSpp;
+        if (noisy && spp < most) next.moreSpp = std::min(4 * spp, most);
         else next.stop = "its score stopped falling";
     }
     return next;
@@ -621,8 +623,8 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // realisation. Carrying over, new samples of the same seed.
         if (!oneSeed) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
         if (next.switchToMonteCarlo) predictor.settings().integrator = monteCarlo;
-        if (next.moreSamples) {
-            predictor.settings().spp = std::min(4 * predictor.settings().spp, settings.mostSpp);
+        if (next.moreSpp > 0) {
+            predictor.settings().spp = next.moreSpp;
             raisedAt = iteration;
             steps.restartAveraging();
             reach.restartRuns();

@@ -32,8 +32,9 @@
 //    small enough to show what the loop still changes). When the wide score
 //    has not fallen 2 % below its best for `patience` iterations, the
 //    predictions' samples go up 4x (to mostSpp: less noise, finer
-//    corrections); past that, or after maxIterations or its time budget,
-//    the loop stops and ends on the labels of its best wide score.
+//    corrections; once more where their noise is still above its target);
+//    past that, or after maxIterations or its time budget, the loop stops
+//    and ends on the labels of its best wide score.
 #pragma once
 
 #include <functional>
@@ -57,6 +58,11 @@ struct OptimizeSettings {
     // loop stops (on the white cube's muted colour, 8 spp's predictions end
     // at half the error of 2 spp's, where their noise stalls the loop).
     uint32_t mostSpp = 8;
+    // Where the predictions' own noise over the eye's footprint is still
+    // above this at mostSpp (dark colours: 3.2 on the white cube's dark
+    // grey at 8 spp, against 1.0 on saturated ones), the samples go up 4x
+    // once more when the loop stalls again.
+    double noiseTargetDeltaE = 2.0;
     float shellDepth_mm = 1.0f;
     // How the shell's mixtures become labels (prepare/halftone.h).
     HalftoneMethod halftone = HalftoneMethod::ErrorDiffusion;

@@ -150,6 +150,10 @@ RenderSettings choosePredictors(const Arguments& args, const std::string& predic
     applyRenderOptions(args, render);
     os.mostSpp = uint32_t(args.integer("--most-spp", 1, RenderSettings::kMostSpp).value_or(os.mostSpp));
     os.mostSpp = std::max(os.mostSpp, render.spp);
+    if (auto x = args.number("--noise-target")) {
+        if (!(*x > 0)) throw UsageError("--noise-target must be positive (CIEDE2000)");
+        os.noiseTargetDeltaE = *x;
+    }
     render.channels = {0, 1, 2};
     if (predictorName == "auto") {
         os.fastPredictor = "diffusion";
@@ -352,7 +356,10 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     kSppOption,
                     {"--most-spp", "N",
                      "where the score stops falling, the predictions' samples go up 4x to at most N before the loop "
-                     "stops (default 8)"},
+                     "stops (default 8; 4N where their noise is still above --noise-target)"},
+                    {"--noise-target", "DE",
+                     "the predictions' noise over the eye's footprint (CIEDE2000) above which the samples go past "
+                     "--most-spp (default 2; dark colours need it)"},
                     kSeedOption,
                     {"--step", "X", "share of the error one iteration corrects, at each voxel's measured gain (0..2]"},
                     {"--shell-mm", "D", "depth of the shell whose labels change"},

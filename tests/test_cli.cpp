@@ -1040,11 +1040,13 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
     for (size_t i = 2; i < rows.size(); ++i) EXPECT_LT(rows[i][1], rows[i - 1][1] + rows[i][8]) << r.out;
     EXPECT_GT(rows[1][6], 0.0);  // labels changed
     // The samples: 4 as asked, 4x more (the most, 8 by default) once the
-    // score stalls, never fewer again.
+    // score stalls, 32 only where the predictions' noise over the
+    // footprint was still above 2 at 8; never fewer again.
     for (size_t i = 0; i < rows.size(); ++i) {
-        EXPECT_TRUE(rows[i][11] == 4.0 || rows[i][11] == 8.0) << r.out;
+        EXPECT_TRUE(rows[i][11] == 4.0 || rows[i][11] == 8.0 || rows[i][11] == 32.0) << r.out;
         if (i > 0) {
             EXPECT_GE(rows[i][11], rows[i - 1][11]) << r.out;
+            if (rows[i][11] == 32.0 && rows[i - 1][11] == 8.0) EXPECT_GT(rows[i - 1][8], 2.0) << r.out;
         }
     }
     EXPECT_NE(r.out.find("mapping loss (the target as given -> printable colours, colorimetric intent)"),
