@@ -627,7 +627,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             predictor.settings().spp = next.moreSpp;
             raisedAt = iteration;
             steps.restartAveraging();
-            reach.restartRuns();
         }
         p = predictor.predict();
     }

@@ -9,7 +9,7 @@ namespace pl {
 
 PrintersReach::PrintersReach(size_t voxels)
     : run_(voxels, 0), outwardSum_(voxels, {0, 0, 0}), errorSum_(voxels, {0, 0, 0}), errorWideSum_(voxels, {0, 0, 0}),
-      shift_(voxels, {0, 0, 0}), atLimit_(voxels, 0), seenShift_(voxels, RGB{0, 0, 0}) {}
+      shift_(voxels, {0, 0, 0}), varianceSum_(voxels, {0, 0}), atLimit_(voxels, 0), seenShift_(voxels, RGB{0, 0, 0}) {}
 
 bool PrintersReach::update(const Evidence& e) {
     const size_t n = run_.size();
@@ -23,6 +23,7 @@ bool PrintersReach::update(const Evidence& e) {
         const std::array<float, 3>& o = e.outward[i];
         const float length = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
         if (!(length > 0)) return;
+        if (++run_[i] <= kIterationsClosingIn) return;
         const Lab &g = e.goal[i], &p = e.predicted[i], &gw = e.goalWide[i], &pw = e.predictedWide[i];
         const std::array<float, 3> error{g.L - p.L, g.a - p.a, g.b - p.b}, errorWide{gw.L - pw.L, gw.a - pw.a, gw.b - pw.b};
         for (size_t c = 0; c < 3; ++c) {
@@ -30,7 +31,9 @@ bool PrintersReach::update(const Evidence& e) {
             errorSum_[i][c] += error[c];
             errorWideSum_[i][c] += errorWide[c];
         }
-        if (++run_[i] < kIterationsBeyond) return;
+        varianceSum_[i][0] += float(e.noiseVariance);
+        varianceSum_[i][1] += float(e.noiseVarianceWide);
+        if (run_[i] < kIterationsBeyond) return;
         // The mean shortfall along the mean outward direction, kept when it
         // is more than three standard errors of its noise (on a flat face, a
         // target on the gamut's surface sends its request out by noise
@@ -38,16 +41,19 @@ bool PrintersReach::update(const Evidence& e) {
         const std::array<float, 3>& u = outwardSum_[i];
         const double uLength = std::sqrt(double(u[0]) * u[0] + double(u[1]) * u[1] + double(u[2]) * u[2]);
         if (!(uLength > 0)) return;
-        const double runs = double(run_[i]);
+        const double runs = double(run_[i] - kIterationsClosingIn);
         double along = 0, alongWide = 0;
         for (size_t c = 0; c < 3; ++c) {
             along += double(errorSum_[i][c]) / runs * u[c] / uLength;
             alongWide += double(errorWideSum_[i][c]) / runs * u[c] / uLength;
         }
-        const double detail = along - alongWide, detailVariance = e.noiseVariance / runs;
+        // The variances of the means (each iteration's own noise).
+        const double detailVariance = varianceSum_[i][0] / (runs * runs);
+        const double wideVariance = varianceSum_[i][1] / (runs * runs);
+        const double detail = along - alongWide;
         const double shrink = detail != 0 ? std::max(0.0, 1.0 - detailVariance / (detail * detail)) : 0.0;
         const double shortfall = alongWide + shrink * detail;
-        const double variance = e.noiseVarianceWide / runs + shrink * shrink * detailVariance;
+        const double variance = wideVariance + shrink * shrink * detailVariance;
         if (shortfall <= std::max(kLeastShortfall, 3 * std::sqrt(variance))) return;
         for (size_t c = 0; c < 3; ++c) shift_[i][c] = float(-shortfall * u[c] / uLength);
         atLimit_[i] = 1;
@@ -73,14 +79,10 @@ std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped, const Surf
     return out;
 }
 
-void PrintersReach::restartRuns() {
-    for (size_t i = 0; i < run_.size(); ++i)
-        if (!atLimit_[i]) clearRun(i);
-}
-
 void PrintersReach::clearRun(size_t i) {
     run_[i] = 0;
     outwardSum_[i] = errorSum_[i] = errorWideSum_[i] = {0, 0, 0};
+    varianceSum_[i] = {0, 0};
 }
 
 double PrintersReach::atLimitShare() const {

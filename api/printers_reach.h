@@ -4,8 +4,8 @@
 // shows less (darker, less saturated). The loop finds where: a voxel whose
 // request stays beyond the flat-face gamut for several iterations is
 // printed at the printer's limit, and what its prediction still lacks in
-// the direction the request was pushed out of the gamut is the printer's
-// limit there, not the loop's error. That shortfall, once significant
+// the direction the request was pushed out of the gamut, once the loop
+// has closed in, is the printer's limit there, not the loop's error. That shortfall, once significant
 // against the predictions' noise, is taken off the voxel's target
 // (frozen: the loop no longer chases it). The shortfall is measured over
 // the eye's footprint, as the loop and the judge see the targets, so the
@@ -25,8 +25,13 @@ namespace pl {
 class PrintersReach {
 public:
     // Iterations in a row a request must lie beyond the gamut before its
-    // shortfall is measured, and the least shortfall kept (Delta E*ab).
-    static constexpr int kIterationsBeyond = 3;
+    // shortfall is taken off; the first of them are not measured (the loop
+    // still closing in: measured from the start, the greek cube's targets
+    // took off errors the loop would have removed, and its print ended
+    // 7.0 from the flat-face targets against 4.0 without the re-map); and
+    // the least shortfall kept (Delta E*ab).
+    static constexpr int kIterationsBeyond = 6;
+    static constexpr int kIterationsClosingIn = 3;
     static constexpr double kLeastShortfall = 1.0;
 
     explicit PrintersReach(size_t voxels);
@@ -54,9 +59,6 @@ public:
     // moved (their sums were against the old one).
     std::vector<RGB> remap(const std::vector<RGB>& mapped, const SurfaceGaussian& eye);
 
-    // A new noise level (the predictions' samples went up): runs under way
-    // start again (their sums were tested against the old noise).
-    void restartRuns();
 
     // Per surface voxel: whether it is at the printer's limit.
     const std::vector<uint8_t>& atLimit() const { return atLimit_; }
@@ -65,11 +67,13 @@ public:
 private:
     void clearRun(size_t voxel);
     // Per voxel: the iterations in a row beyond the gamut, the sums over
-    // them of the shortfall's direction and of the target minus the
-    // prediction at both scales; and, once at the limit, the shift of its
-    // target.
+    // the measured ones of the shortfall's direction, of the target minus
+    // the prediction at both scales and of the predictions' noise
+    // variances at both (the samples may rise during a run); and, once at
+    // the limit, the shift of its target.
     std::vector<uint16_t> run_;
     std::vector<std::array<float, 3>> outwardSum_, errorSum_, errorWideSum_, shift_;
+    std::vector<std::array<float, 2>> varianceSum_;
     std::vector<uint8_t> atLimit_;
     std::vector<RGB> seenShift_;  // the shifts over the eye's footprint at the last remap
 };

@@ -36,7 +36,7 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
     PrintersReach reach(n);
     Rng rng(11, 0);
     bool foundAny = false;
-    for (int iteration = 0; iteration < 6; ++iteration) {
+    for (int iteration = 0; iteration < 9; ++iteration) {
         std::vector<Lab> predicted(n), predictedWide(n);
         std::vector<uint8_t> beyond(n, 0);
         std::vector<std::array<float, 3>> outward(n, {0, 0, 0});
@@ -76,7 +76,7 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
         const int x = int(i % kSide), y = int(i / kSide);
         const Lab t = labFromLinearSrgb(reachable[i]);
         // In the left third: the target is what the print shows there (the
-        // shortfall's mean over three iterations, within its noise; over
+        // shortfall's mean over the measured iterations, within its noise; over
         // the footprint, deep inside, within a tenth of it); on the right:
         // unchanged.
         if (x < kSide / 3) {
@@ -113,20 +113,20 @@ struct OneVoxel {
 TEST(PrintersReach, NeedsARunBeyondTheGamutAndARealShortfall) {
     OneVoxel v;
     v.predicted.a = v.predictedWide.a = 34;  // 6 short along the way out
-    // Two iterations beyond, one inside, two beyond: no run of three.
+    // Five iterations beyond, one inside, five beyond: no run long enough.
     PrintersReach broken(1);
-    for (uint8_t beyond : {1, 1, 0, 1, 1}) {
+    for (uint8_t beyond : {1, 1, 1, 1, 1, 0, 1, 1, 1, 1, 1}) {
         v.beyond = beyond;
         EXPECT_FALSE(v.update(broken));
     }
     v.beyond = 1;
-    EXPECT_TRUE(v.update(broken));  // the third in a row
+    EXPECT_TRUE(v.update(broken));  // the sixth in a row
     // An overshoot (the print beyond the target along the way out) is not
     // a limit; nor is a shortfall under the least kept, even without noise.
     for (float a : {46.0f, 40.5f}) {
         PrintersReach reach(1);
         v.predicted.a = v.predictedWide.a = a;
-        for (int k = 0; k < 5; ++k) EXPECT_FALSE(v.update(reach)) << a;
+        for (int k = 0; k < 8; ++k) EXPECT_FALSE(v.update(reach)) << a;
     }
 }
 
@@ -140,14 +140,14 @@ TEST(PrintersReach, KeepsSignificantDetailAndShrinksNoisyDetail) {
     v.noiseVarianceWide = v.noiseVariance / 10;
     v.predicted.a = 34;
     PrintersReach sharp(1);
-    for (int k = 0; k < 3; ++k) v.update(sharp);
+    for (int k = 0; k < PrintersReach::kIterationsBeyond; ++k) v.update(sharp);
     ASSERT_EQ(sharp.atLimit()[0], 1);
     const std::vector<RGB> target = sharp.remap({linearSrgbFromLab(v.goal)}, SurfaceGaussian({{0, 0, 0}}, 0.2f));
     // 6 x (1 - (2.25 / 3) / 36): the shrink takes 2 %.
     EXPECT_NEAR(labFromLinearSrgb(target[0]).a, 40 - 6 * (1 - 0.75 / 36), 0.01);
     v.predicted.a = 38.5f;  // 1.5 short: the shrink leaves 1.5 x (1 - 0.75 / 2.25) = 1.0, not over 1
     PrintersReach noisy(1);
-    for (int k = 0; k < 6; ++k) EXPECT_FALSE(v.update(noisy));
+    for (int k = 0; k < PrintersReach::kIterationsBeyond; ++k) EXPECT_FALSE(v.update(noisy));
 }
 
 TEST(PrintersReach, LeavesTheErrorAcrossTheWayOutToTheLoop) {
@@ -160,7 +160,7 @@ TEST(PrintersReach, LeavesTheErrorAcrossTheWayOutToTheLoop) {
     const std::vector<Lab> goal(n, target), predicted(n, Lab{target.L, target.a, target.b - 8});
     const std::vector<uint8_t> beyond(n, 1);
     const std::vector<std::array<float, 3>> outward(n, {2, 0, 0});
-    for (int iteration = 0; iteration < 5; ++iteration)
+    for (int iteration = 0; iteration < 8; ++iteration)
         reach.update({goal, predicted, goal, predicted, 0.01, 0.001, beyond, outward});
     EXPECT_EQ(reach.atLimitShare(), 0.0);
 }
