@@ -442,14 +442,6 @@ public:
     }
     // A new noise level starts a new averaging: Kesten's counts restart.
     void restartAveraging() { std::fill(reversals_.begin(), reversals_.end(), uint16_t(0)); }
-    // Where the wide target moved (by over 0.5 Delta E*ab), the last error
-    // is forgotten: the jump is not a turn of the error.
-    void forgetErrorsWhereMoved(const std::vector<Lab>& before, const std::vector<Lab>& after) {
-        for (size_t i = 0; i < before.size(); ++i) {
-            const LabVector d = difference(after[i], before[i]);
-            if (dot(d, d) > 0.25) previousError_[i] = {0, 0, 0};
-        }
-    }
 
 private:
     std::vector<Lab> previousRequest_, previousSeen_;  // the wide request before, its wide prediction
@@ -551,7 +543,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     PrintersReach reach(n);
     const bool mapToReach = settings.gamutMap && settings.spatialGamutMap;
     double bestScore = 0;
-    std::vector<Lab> bestWideLab;
     int raisedAt = 0;  // the iteration after which the samples last went up
     for (int iteration = 0;; ++iteration) {
         const bool noisy = !capabilitiesOf(predictor.settings()).deterministic;
@@ -562,7 +553,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         it.spp = predictor.settings().spp;
         it.retracedVoxels = p.retracedVoxels;
         for (uint32_t s : p.samples) it.meanSamples += double(s) / double(n);
-        scoreIteration(now, goal, aim.reachable, noisy, it);
+        scoreIteration(now, goal, aim.mapped, noisy, it);
         // A new best only if it beats the last by a margin, on the wide
         // score: at the footprint the predictions' noise dominates the score
         // and hides what the loop still changes.
@@ -571,7 +562,6 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             result.bestIteration = iteration;
             if (iteration > 0) bestLabels = predictor.labels().withChanges({});
             result.predictedSeen = now.overFootprint;
-            bestWideLab = now.wideLab;
             if (!mapToReach) result.atPrintersLimit = steps.outside();  // the move that made these labels
         }
         const bool onFast = fastFirst && predictor.settings().integrator == settings.fastPredictor;
@@ -594,21 +584,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
                                                        : labsOf(goal.updateFiltered(now.predicted));
             steps.move(iteration, now, nowOverUpdate, goal, gamut, settings.step, aim.request, aim.mixture);
             it.outsideShare = steps.outsideShare();
-            // Where the print proved at the printer's limit, the targets
-            // become what it can show there (Monte Carlo's evidence only: a
-            // deterministic predictor's edges are not the print's); the
-            // best so far is scored again against them, and the moved
-            // targets' errors start a new history.
-            if (mapToReach && noisy &&
+            // The evidence of where the print is at the printer's limit
+            // (Monte Carlo's only: a deterministic predictor's edges are not
+            // the print's).
+            if (mapToReach && noisy)
                 reach.update({goal.goal, nowOverUpdate, goal.goalWide, now.wideLab, now.noiseVariance,
-                              now.noiseVarianceWide, steps.outside(), steps.outward()})) {
-                const std::vector<Lab> before = goal.goalWide;
-                aim.reachable = reach.remap(aim.mapped, goal.eye);
-                goal.aimAt(aim.reachable);
-                steps.forgetErrorsWhereMoved(before, goal.goalWide);
-                bestScore = meanDeltaE(bestWideLab, goal.goalWide);
-            }
-            it.atLimitShare = reach.atLimitShare();
+                              now.noiseVarianceWide, steps.outside(), steps.outward()});
         }
         std::vector<LabelGrid::Change> changes = halftoneShell(predictor.labels(), owner, aim.mixture, settings.halftone,
                                                                    iteration > 0 ? settings.hysteresis : 0.0f);
@@ -629,6 +610,12 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
             steps.restartAveraging();
         }
         p = predictor.predict();
+    }
+    // What the print can show at every point, as the loop found it: the
+    // judge's and the report's reference.
+    if (mapToReach) {
+        aim.reachable = reach.remap(aim.mapped);
+        goal.aimAt(aim.reachable);
     }
     result.aimedAt = aim.reachable;
     result.mappedSeen = goal.mappedSeen;

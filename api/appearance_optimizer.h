@@ -7,11 +7,11 @@
 //    They are first mapped into the printer's gamut by a rendering intent
 //    (prepare/rendering_intent.h): by default each to the colour of the
 //    mixture nearest it in CIELAB (colorimetric: minimum Delta E clipping,
-//    the identity inside the gamut), or compressed as a whole (perceptual). Where the loop then finds the print at
-//    the printer's limit (edges, thin walls, fine detail), the targets
-//    become what it can show there (api/printers_reach.h). Loop and judge
-//    aim at the same targets; the mapping loss (as given -> aimed at) is
-//    reported apart.
+//    the identity inside the gamut), or compressed as a whole (perceptual).
+//    The loop aims at them; where it finds the print at the printer's
+//    limit (edges, thin walls, fine detail), the targets it is judged
+//    against become what the print can show there (api/printers_reach.h).
+//    The mapping loss (as given -> judged against) is reported apart.
 //  - The shell is every object voxel within shellDepth_mm of a surface
 //    voxel; each takes the mixture of its nearest surface voxel, halftoned
 //    by prepare's 3D vector error diffusion; only changed voxels go to the
@@ -88,8 +88,9 @@ struct OptimizeSettings {
     // How targets become printable colours (prepare/rendering_intent.h).
     RenderingIntent intent = RenderingIntent::Colorimetric;
     // Where the loop finds the print at the printer's limit (edges,
-    // corners, thin walls, fine detail: api/printers_reach.h), aim at what
-    // it can show there. false: at the flat-face gamut's colours throughout.
+    // corners, thin walls, fine detail: api/printers_reach.h), judge it
+    // against what it can show there. false: against the flat-face gamut's
+    // colours throughout.
     bool spatialGamutMap = true;
     // A fast predictor (an integrator's name, e.g. "diffusion") for the
     // first iterations: the loop predicts with it while its own score falls
@@ -138,9 +139,6 @@ struct OptimizeIteration {
     // lay more than 1 Delta E*ab from the nearest printable colour found
     // for it: where the print would need colours the printer cannot show.
     double outsideShare = 0;
-    // Share of the surface voxels found at the printer's limit so far
-    // (their targets re-mapped to what the print can show there).
-    double atLimitShare = 0;
     std::string predictor;    // the integrator that made this iteration's prediction
     uint32_t spp = 0;         // and its samples per pixel
 };

@@ -8,81 +8,57 @@
 namespace pl {
 
 PrintersReach::PrintersReach(size_t voxels)
-    : run_(voxels, 0), outwardSum_(voxels, {0, 0, 0}), errorSum_(voxels, {0, 0, 0}), errorWideSum_(voxels, {0, 0, 0}),
-      shift_(voxels, {0, 0, 0}), varianceSum_(voxels, {0, 0}), atLimit_(voxels, 0), seenShift_(voxels, RGB{0, 0, 0}) {}
+    : run_(voxels, 0), outward_(voxels, {0, 0, 0}), error_(voxels, {0, 0, 0}), errorWide_(voxels, {0, 0, 0}),
+      variance_(voxels, {0, 0}), atLimit_(voxels, 0) {}
 
-bool PrintersReach::update(const Evidence& e) {
-    const size_t n = run_.size();
-    std::vector<uint8_t> found(n, 0);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-        if (atLimit_[i]) return;
-        if (!e.beyond[i]) {
-            clearRun(i);
-            return;
-        }
+void PrintersReach::update(const Evidence& e) {
+    tbb::parallel_for(size_t(0), run_.size(), [&](size_t i) {
         const std::array<float, 3>& o = e.outward[i];
         const float length = std::sqrt(o[0] * o[0] + o[1] * o[1] + o[2] * o[2]);
-        if (!(length > 0)) return;
-        if (++run_[i] <= kIterationsClosingIn) return;
+        if (!e.beyond[i] || !(length > 0)) {
+            run_[i] = 0;
+            return;
+        }
         const Lab &g = e.goal[i], &p = e.predicted[i], &gw = e.goalWide[i], &pw = e.predictedWide[i];
         const std::array<float, 3> error{g.L - p.L, g.a - p.a, g.b - p.b}, errorWide{gw.L - pw.L, gw.a - pw.a, gw.b - pw.b};
+        // Weights halving into the past: the average's variance is a
+        // quarter of the last one's plus a quarter of the new noise's.
+        const float keep = run_[i] == 0 ? 0.0f : 0.5f, add = 1.0f - keep;
         for (size_t c = 0; c < 3; ++c) {
-            outwardSum_[i][c] += o[c] / length;
-            errorSum_[i][c] += error[c];
-            errorWideSum_[i][c] += errorWide[c];
+            outward_[i][c] = keep * outward_[i][c] + add * o[c] / length;
+            error_[i][c] = keep * error_[i][c] + add * error[c];
+            errorWide_[i][c] = keep * errorWide_[i][c] + add * errorWide[c];
         }
-        varianceSum_[i][0] += float(e.noiseVariance);
-        varianceSum_[i][1] += float(e.noiseVarianceWide);
+        variance_[i][0] = keep * keep * variance_[i][0] + add * add * float(e.noiseVariance);
+        variance_[i][1] = keep * keep * variance_[i][1] + add * add * float(e.noiseVarianceWide);
+        if (run_[i] < UINT16_MAX) ++run_[i];
+    });
+}
+
+std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped) {
+    std::vector<RGB> out(mapped);
+    tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
+        atLimit_[i] = 0;
         if (run_[i] < kIterationsBeyond) return;
-        // The mean shortfall along the mean outward direction, kept when it
-        // is more than three standard errors of its noise (on a flat face, a
-        // target on the gamut's surface sends its request out by noise
-        // alone, half of the time).
-        const std::array<float, 3>& u = outwardSum_[i];
+        const std::array<float, 3>& u = outward_[i];
         const double uLength = std::sqrt(double(u[0]) * u[0] + double(u[1]) * u[1] + double(u[2]) * u[2]);
         if (!(uLength > 0)) return;
-        const double runs = double(run_[i] - kIterationsClosingIn);
         double along = 0, alongWide = 0;
         for (size_t c = 0; c < 3; ++c) {
-            along += double(errorSum_[i][c]) / runs * u[c] / uLength;
-            alongWide += double(errorWideSum_[i][c]) / runs * u[c] / uLength;
+            along += double(error_[i][c]) * u[c] / uLength;
+            alongWide += double(errorWide_[i][c]) * u[c] / uLength;
         }
-        // The variances of the means (each iteration's own noise).
-        const double detailVariance = varianceSum_[i][0] / (runs * runs);
-        const double wideVariance = varianceSum_[i][1] / (runs * runs);
-        const double detail = along - alongWide;
+        const double detail = along - alongWide, detailVariance = variance_[i][0];
         const double shrink = detail != 0 ? std::max(0.0, 1.0 - detailVariance / (detail * detail)) : 0.0;
         const double shortfall = alongWide + shrink * detail;
-        const double variance = wideVariance + shrink * shrink * detailVariance;
+        const double variance = variance_[i][1] + shrink * shrink * detailVariance;
         if (shortfall <= std::max(kLeastShortfall, 3 * std::sqrt(variance))) return;
-        for (size_t c = 0; c < 3; ++c) shift_[i][c] = float(-shortfall * u[c] / uLength);
-        atLimit_[i] = 1;
-        found[i] = 1;
-    });
-    return std::find(found.begin(), found.end(), uint8_t(1)) != found.end();
-}
-
-std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped, const SurfaceGaussian& eye) {
-    std::vector<RGB> shift(shift_.size());
-    for (size_t i = 0; i < shift.size(); ++i) shift[i] = {shift_[i][0], shift_[i][1], shift_[i][2]};
-    // Where the eye sees the target move since the last time (by over 0.5
-    // Delta E*ab), runs under way start again.
-    const std::vector<RGB> seen = eye.apply(shift);
-    std::vector<RGB> out(mapped.size());
-    tbb::parallel_for(size_t(0), mapped.size(), [&](size_t i) {
         const Lab m = labFromLinearSrgb(mapped[i]);
-        out[i] = linearSrgbFromLab({m.L + shift[i][0], m.a + shift[i][1], m.b + shift[i][2]});
-        const RGB d{seen[i][0] - seenShift_[i][0], seen[i][1] - seenShift_[i][1], seen[i][2] - seenShift_[i][2]};
-        if (!atLimit_[i] && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > 0.25) clearRun(i);
+        const double s = shortfall / uLength;
+        out[i] = linearSrgbFromLab({float(m.L - s * u[0]), float(m.a - s * u[1]), float(m.b - s * u[2])});
+        atLimit_[i] = 1;
     });
-    seenShift_ = seen;
     return out;
-}
-
-void PrintersReach::clearRun(size_t i) {
-    run_[i] = 0;
-    outwardSum_[i] = errorSum_[i] = errorWideSum_[i] = {0, 0, 0};
-    varianceSum_[i] = {0, 0};
 }
 
 double PrintersReach::atLimitShare() const {

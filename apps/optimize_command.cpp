@@ -396,8 +396,8 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                     {"--no-gamut-map", "", "aim at the target as given, not at its nearest printable colour"},
                     kIntentOption,
                     {"--flat-gamut-map", "",
-                     "aim at the flat-face gamut's colours everywhere, also where the print proves it cannot show "
-                     "them (edges, thin walls, fine detail)"},
+                     "judge against the flat-face gamut's colours everywhere, also where the loop found the print "
+                     "cannot show them (edges, thin walls, fine detail)"},
                     {"-o,--output", "PREFIX", "outputs PREFIX.csv, PREFIX_labels.vdb, PREFIX.html and its models"}});
     if (args.positional().size() != 1) throw UsageError("optimize needs exactly one SCENE.json");
     auto target = args.value("--target");
@@ -445,16 +445,16 @@ int optimizeCommand(const std::vector<std::string>& argv) {
                 voxels.size(), predictor.settings().integrator.c_str(), predictor.settings().spp, secondsSince(t0));
     const char* header =
         "iteration,mean_de2000,p95_de2000,mean_de2000_per_voxel,p95_de2000_per_voxel,seconds,changed_voxels,predictor,"
-        "noise_de2000,mean_de2000_wide,outside_share,spp,retraced_voxels,mean_samples,at_limit_share\n";
+        "noise_de2000,mean_de2000_wide,outside_share,spp,retraced_voxels,mean_samples\n";
     if (speaks) std::fputs(header, stdout);
     std::ostringstream csv;
     csv << header;
     OptimizeResult result = optimizeAppearance(predictor, gamut, targets, os, [&](const OptimizeIteration& it) {
         char line[256];
-        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u,%zu,%.1f,%.4f\n",
+        std::snprintf(line, sizeof line, "%d,%.4f,%.4f,%.4f,%.4f,%.3f,%zu,%s,%.4f,%.4f,%.4f,%u,%zu,%.1f\n",
                       it.iteration, it.meanDeltaE, it.p95DeltaE, it.meanDeltaEPerVoxel, it.p95DeltaEPerVoxel,
                       it.seconds, it.changedVoxels, it.predictor.c_str(), it.noiseDeltaE, it.meanDeltaEWide,
-                      it.outsideShare, it.spp, it.retracedVoxels, it.meanSamples, it.atLimitShare);
+                      it.outsideShare, it.spp, it.retracedVoxels, it.meanSamples);
         if (speaks) {
             std::fputs(line, stdout);
             std::fflush(stdout);
