@@ -1046,7 +1046,9 @@ TEST(Cli, OptimizeMovesAWhiteCubeTowardsATargetColour) {
         EXPECT_TRUE(rows[i][11] == 4.0 || rows[i][11] == 8.0 || rows[i][11] == 32.0) << r.out;
         if (i > 0) {
             EXPECT_GE(rows[i][11], rows[i - 1][11]) << r.out;
-            if (rows[i][11] == 32.0 && rows[i - 1][11] == 8.0) EXPECT_GT(rows[i - 1][8], 2.0) << r.out;
+            if (rows[i][11] == 32.0 && rows[i - 1][11] == 8.0) {
+                EXPECT_GT(rows[i - 1][8], 2.0) << r.out;
+            }
         }
     }
     EXPECT_NE(r.out.find("mapping loss (the target as given -> printable colours, colorimetric intent)"),
