@@ -488,7 +488,11 @@ NextStep nextStep(const OptimizeSettings& settings, const OptimizeResult& result
     if (next.stop.empty() && settings.patience > 0 && !onFast && iteration > 0 &&
         iteration - std::max(result.bestIteration, raisedAt) >= settings.patience) {
         // Stalled on the predictions' noise: first fewer of it, then stop.
-        const uint32_t most = it.noiseDeltaE > settings.noiseTargetDeltaE ? 4 * settings.mostSpp : settings.mostSpp;
+        // Up to mostSpp; once there, 4x more where the noise is still above
+        // its target.
+        const uint32_t most = spp < settings.mostSpp                        ? settings.mostSpp
+                              : it.noiseDeltaE > settings.noiseTargetDeltaE ? 4 * settings.mostSpp
+                                                                            : settings.mostSpp;
         if (noisy && spp < most) next.moreSpp = std::min(4 * spp, most);
         else next.stop = "its score stopped falling";
     }
