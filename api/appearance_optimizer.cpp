@@ -237,9 +237,10 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
                 j.rmsDeltaEFilteredNoiseRemoved = e.rmsFilteredNoiseRemoved;
                 j.judgedSeen = e.meanSeen;
                 j.deltaESeen = e.deltaESeen;
+                // A second whole-surface score only where the targets differ.
                 j.meanDeltaEFilteredFlatFace =
-                    &flatMapped == &mapped ? e.error.meanFiltered
-                                           : splitRenderError(eye, halves[0], halves[1], flatMapped).error.meanFiltered;
+                    flatMapped == mapped ? e.error.meanFiltered
+                                         : splitRenderError(eye, halves[0], halves[1], flatMapped).error.meanFiltered;
             }
             return fixed || j.noiseDeltaEFiltered <= settings.judgeNoiseDeltaE || perHalf >= mostPerHalf;
         }();
@@ -259,7 +260,6 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
 // and the mixture that shows it, which the loop prints first.
 struct MappedTargets {
     std::vector<RGB> given, mapped;
-    std::vector<RGB> reachable;  // mapped, less the printer's limits the loop found (api/printers_reach.h)
     std::vector<MaterialFractions> mixture;
     std::vector<Lab> request;  // the colour each voxel's mixture is asked to show
 };
@@ -282,7 +282,6 @@ MappedTargets mapTargets(const PrinterGamut& gamut, const std::vector<RGB>& targ
         t.mixture[i] = mapping[i].mixture;
         t.request[i] = mapping[i].colour;
     }
-    t.reachable = t.mapped;
     return t;
 }
 
@@ -618,13 +617,15 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     // What the print can show at every point, as the loop found it: the
     // judge's and the report's reference.
     if (mapToReach) {
-        aim.reachable = reach.remap(aim.mapped);
-        goal.aimAt(aim.reachable);
+        result.aimedAt = reach.remap(aim.mapped);
+        result.mappedSeen = goal.eye.apply(result.aimedAt);
+        result.mappingLoss = surfaceColourError(goal.eye, result.aimedAt, aim.given);
+        result.atPrintersLimit = reach.atLimit();
+    } else {
+        result.aimedAt = aim.mapped;
+        result.mappedSeen = goal.mappedSeen;
+        result.mappingLoss = result.mappingLossFlatFace;
     }
-    result.aimedAt = aim.reachable;
-    result.mappedSeen = goal.mappedSeen;
-    result.mappingLoss = mapToReach ? surfaceColourError(goal.eye, aim.reachable, aim.given) : result.mappingLossFlatFace;
-    if (mapToReach) result.atPrintersLimit = reach.atLimit();
     result.deltaESeen.resize(n);
     for (size_t i = 0; i < n; ++i)
         result.deltaESeen[i] = float(ciede2000(labFromLinearSrgb(result.predictedSeen[i]),
@@ -633,7 +634,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
-        result.judgement = judgePrint(predictor, settings, judge, goal.eye, aim.reachable, aim.mapped, environment);
+        result.judgement = judgePrint(predictor, settings, judge, goal.eye, result.aimedAt, aim.mapped, environment);
     }
     return result;
 }

@@ -61,9 +61,4 @@ std::vector<RGB> PrintersReach::remap(const std::vector<RGB>& mapped) {
     return out;
 }
 
-double PrintersReach::atLimitShare() const {
-    if (atLimit_.empty()) return 0;
-    return double(std::count(atLimit_.begin(), atLimit_.end(), uint8_t(1))) / double(atLimit_.size());
-}
-
 }  // namespace pl

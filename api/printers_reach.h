@@ -64,7 +64,6 @@ public:
 
     // Per surface voxel, after remap: whether it is at the printer's limit.
     const std::vector<uint8_t>& atLimit() const { return atLimit_; }
-    double atLimitShare() const;
 
 private:
     // Per voxel: the iterations in a row beyond the gamut, the averages

@@ -165,6 +165,12 @@ RenderSettings choosePredictors(const Arguments& args, const std::string& predic
     return judge;
 }
 
+// The share of the surface voxels where the print is at the printer's limit.
+double shareAtPrintersLimit(const OptimizeResult& result) {
+    const std::vector<uint8_t>& atLimit = result.atPrintersLimit;
+    return double(std::count(atLimit.begin(), atLimit.end(), uint8_t(1))) / double(std::max<size_t>(1, atLimit.size()));
+}
+
 // The mapping loss, the loop's own score and the judge's, on stdout.
 void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
     const auto& its = result.iterations;
@@ -178,9 +184,7 @@ void printOutcome(const OptimizeResult& result, const OptimizeSettings& os) {
         std::printf("  (the flat-face gamut alone: %.3f; beyond it, where the loop found the print at the printer's "
                     "limit (%.1f %% of the surface: edges, thin walls, fine detail), the targets became what it shows "
                     "there)\n",
-                    result.mappingLossFlatFace.meanFiltered,
-                    100.0 * double(std::count(result.atPrintersLimit.begin(), result.atPrintersLimit.end(), 1)) /
-                        double(std::max<size_t>(1, result.atPrintersLimit.size())));
+                    result.mappingLossFlatFace.meanFiltered, 100.0 * shareAtPrintersLimit(result));
     double loopSeconds = 0;
     for (const OptimizeIteration& it : its) loopSeconds += it.seconds;
     std::printf("the loop's own score over the footprint: %.3f -> %.3f (iteration %d of %zu, best; its noise %.2f), "
@@ -273,7 +277,7 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
     const std::vector<RGB>& printSeen = judgedEverywhere ? judgement->judgedSeen : result.predictedSeen;
     const size_t n = deltaESeen.size();
     std::vector<RGB> errorColors(n), lossColors(n), givenColors(n), limitColors(n);
-    double fromGiven = 0, atLimitShare = 0;
+    double fromGiven = 0;
     for (size_t i = 0; i < n; ++i) {
         const Lab given = labFromLinearSrgb(result.targetSeen[i]);
         const double e = ciede2000(given, labFromLinearSrgb(printSeen[i]));
@@ -283,7 +287,6 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
         const bool atLimit = i < result.atPrintersLimit.size() && result.atPrintersLimit[i];
         limitColors[i] = atLimit ? RGB{0.8f, 0.05f, 0.6f} : RGB{0.9f, 0.9f, 0.9f};
         fromGiven += e / double(n);
-        atLimitShare += atLimit ? 1.0 / double(n) : 0.0;
     }
     writePredictionGlb(mesh, frame, voxels, errorColors, errorGlb);
     writePredictionGlb(mesh, frame, voxels, lossColors, lossGlb);
@@ -304,7 +307,7 @@ void OptimizeOutputs::write(const OptimizeResult& result, const std::string& his
                   kEyeFootprint_mm, loss.meanFiltered, enumName(kRenderingIntentNames, intent),
                   result.mappingLossFlatFace.meanFiltered, its.front().meanDeltaE, best.meanDeltaE, result.bestIteration,
                   predictor.settings().integrator.c_str(), predictor.settings().spp, fromGiven,
-                  judgedEverywhere ? "judge's colours" : "loop's best prediction", 100.0 * atLimitShare);
+                  judgedEverywhere ? "judge's colours" : "loop's best prediction", 100.0 * shareAtPrintersLimit(result));
     std::string judged = " The prediction and error views are the loop's best prediction, its noise included.";
     if (judgement && !judgedEverywhere) {
         char text[400];

@@ -83,9 +83,12 @@ TEST(PrintersReach, TakesAMeasuredShortfallOffTheTargetWithoutASeam) {
             EXPECT_NEAR(t.L, target.L, 0.05f);
             EXPECT_NEAR(t.b, target.b, 0.05f);
         }
-        if (x < kSide / 3 - 12 && y >= 12 && y < kSide - 12)
+        if (x < kSide / 3 - 12 && y >= 12 && y < kSide - 12) {
             EXPECT_NEAR(labFromLinearSrgb(seen[i]).a, target.a - 6.0f, 0.3f) << x << " " << y;
-        if (x >= 2 * kSide / 3) EXPECT_LT(ciede2000(t, target), 0.01) << x << " " << y;
+        }
+        if (x >= 2 * kSide / 3) {
+            EXPECT_LT(ciede2000(t, target), 0.01) << x << " " << y;
+        }
         // No seam where the eye looks: over the footprint, neighbours
         // differ by a fraction of the shortfall (a step would be ~4
         // CIEDE2000).
@@ -174,7 +177,7 @@ TEST(PrintersReach, LeavesTheErrorAcrossTheWayOutToTheLoop) {
     PrintersReach reach(1);
     for (int k = 0; k < 8; ++k) v.update(reach);
     EXPECT_NEAR(v.remapped(reach).b, 30, 1e-3);
-    EXPECT_EQ(reach.atLimitShare(), 0.0);
+    EXPECT_EQ(reach.atLimit()[0], 0);
 }
 
 }  // namespace
