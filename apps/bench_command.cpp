@@ -37,7 +37,7 @@
 #include "apps/limit_walk.h"
 #include "apps/number_text.h"
 #include "runtime/progress.h"
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/half_space_walk.h"
 #include "render/registry.h"
 #include "compare/surface_colour_error.h"
 #include "io/image_io.h"

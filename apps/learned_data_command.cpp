@@ -2,7 +2,7 @@
 // learned predictor's training rows from a render of a surface-voxel
 // sensor with patches (scripts/train_learned.py). One row per surface
 // voxel the render's atlas shows and channel: the descriptor
-// (integrators/label_descriptor.h), then the voxel's response (the
+// (integrators/learned/label_descriptor.h), then the voxel's response (the
 // radiance along the normal less its Fresnel reflection of the
 // surroundings, over the light transmitted in) and that value's standard
 // error, then the channel and the element. A NumPy .npy of float32.
@@ -13,7 +13,7 @@
 #include "apps/arguments.h"
 #include "apps/command_options.h"
 #include "core/fresnel.h"
-#include "integrators/learned.h"
+#include "integrators/learned/learned.h"
 #include "io/image_io.h"
 #include "core/input_error.h"
 #include "io/output_file.h"

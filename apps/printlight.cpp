@@ -31,7 +31,7 @@ const std::vector<Command>& commands() {
          "a self-contained HTML page: the models on rotating views, an optimisation's history", reportCommand},
         {"learned-data", "SCENE.json", "a scene whose sensor is surface_voxels with the patch footprint",
          "the learned predictor's training rows from a render (scripts/train_learned.py)", learnedDataCommand},
-        {"characterise", "MATERIALS.json", "a material table (docs/materials-format.md)",
+        {"characterise", "MATERIALS.json", "a material table (docs/formats.md)",
          "the printer's colours: halftoned mixtures rendered, for optimize's gamut (MATERIALS.gamut.json)",
          characteriseCommand},
         {"info", "VOLUME", "a label grid (.vdb, .bin, .gz, .vol)", "describes a label grid", infoCommand},

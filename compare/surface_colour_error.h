@@ -1,4 +1,4 @@
-// Colour error on the object's surface as the eye sees it (issue 30's
+// Colour error on the object's surface as the eye sees it (the
 // measure of a predictor against a converged reference): CIEDE2000 per
 // surface voxel, and after both sides are averaged over the eye's
 // footprint, a Gaussian on the surface (distances between the voxels'

@@ -1,7 +1,7 @@
 // Options declared once: each by its scene-file name, the field of its
 // options struct it sets, its range and what it does. The scene parser,
 // bench's "estimator/key=value" configurations and the tests read the
-// same table (integrators/printpt_options.h, lighttrace.h, volpath.h).
+// same table (integrators/printpt/printpt_options.h, lighttrace.h, volpath.h).
 #pragma once
 
 #include <cstdint>

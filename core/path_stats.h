@@ -6,7 +6,7 @@
 
 namespace pl {
 
-// The control variates printpt's walks can use (integrators/printpt.h).
+// The control variates printpt's walks can use (integrators/printpt/printpt.h).
 enum class ControlKind { HalfSpace, Wedge, Curved };
 constexpr int kControlKinds = 3;
 

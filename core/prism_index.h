@@ -4,8 +4,8 @@
 // point y lies on triangle T's line through x when x = y + s n lies on T
 // with 0 < s <= depth. The prisms know no inside: whether the segment from
 // y to x meets another surface first is the caller's to check. Light tracing into the surface-voxel sensor's
-// patches connects a collision at y to every such x (docs/architecture.md,
-// "Light tracing into the surface-voxel sensor"): near an edge a point lies
+// patches connects a collision at y to every such x (docs/lighttrace.md,
+// "The measurement, split three ways"): near an edge a point lies
 // on the lines of both faces, where the mesh is curved it may lie on none.
 #pragma once
 

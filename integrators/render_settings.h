@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "core/option_table.h"
-#include "integrators/bre.h"
-#include "integrators/lighttrace.h"
-#include "integrators/photon_beams.h"
-#include "integrators/printpt.h"
-#include "integrators/volpath.h"
+#include "integrators/photons/bre.h"
+#include "integrators/lighttrace/lighttrace.h"
+#include "integrators/photons/photon_beams.h"
+#include "integrators/printpt/printpt.h"
+#include "integrators/volpath/volpath.h"
 
 namespace pl {
 

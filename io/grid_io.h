@@ -1,4 +1,4 @@
-// Label grid files (see docs/grid-formats.md):
+// Label grid files (see docs/formats.md, "Label grids"):
 //  - OpenVDB .vdb: a grid named "labels" (8-bit, or int32/float holding
 //    integer labels); background = void label.
 //  - research LabelGrid .bin, or gzipped .gz: int32 res[3]; float64

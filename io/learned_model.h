@@ -1,5 +1,5 @@
 // A trained predictor (scripts/train_learned.py): a small multilayer
-// perceptron from one channel's label descriptor (integrators/label_descriptor.h) to
+// perceptron from one channel's label descriptor (integrators/learned/label_descriptor.h) to
 // that channel's surface response, with what it was trained for. It is
 // valid only for that material table and voxel size.
 #pragma once

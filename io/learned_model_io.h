@@ -1,5 +1,5 @@
 // The learned predictor's model file (JSON, written by
-// scripts/train_learned.py; docs/diffusion.md section 5):
+// scripts/train_learned.py; docs/learned.md):
 //   {"format": "printlight-learned-1",
 //    "trained_for": {"materials": <a material table>, "voxel_size_mm": [x, y, z]},
 //    "descriptor_size": N,

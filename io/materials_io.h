@@ -1,7 +1,7 @@
 // Materials JSON: a list of {"label", "name", "albedo": [r,g,b],
 // "density": [r,g,b] (sigma_t, 1/mm), "anisotropy": [r,g,b] (HG g)},
 // optionally "ior"; the format of the public research code of Rittig et
-// al. 2021. See docs/materials-format.md.
+// al. 2021. See docs/formats.md, "Materials JSON".
 #pragma once
 
 #include <filesystem>

@@ -6,7 +6,7 @@
 // inside. Multiple scattering is the diffusion of dipoles placed along
 // the beam (Grosjean's diffusion coefficient, the Kienle-Patterson
 // boundary); single scattering is exact. The fast predictor's profile
-// (issue 30): its bias against the exact half-space (slab_transport.h)
+// : its bias against the exact half-space (slab_transport.h)
 // is measured in tests/test_beam_diffusion.cpp.
 #pragma once
 

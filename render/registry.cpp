@@ -2,14 +2,14 @@
 
 #include <stdexcept>
 
-#include "integrators/bb1d.h"
-#include "integrators/bre.h"
-#include "integrators/diffusion.h"
-#include "integrators/learned.h"
-#include "integrators/lighttrace.h"
-#include "integrators/pb2d.h"
-#include "integrators/printpt.h"
-#include "integrators/volpath.h"
+#include "integrators/photons/bb1d.h"
+#include "integrators/photons/bre.h"
+#include "integrators/diffusion/diffusion.h"
+#include "integrators/learned/learned.h"
+#include "integrators/lighttrace/lighttrace.h"
+#include "integrators/photons/pb2d.h"
+#include "integrators/printpt/printpt.h"
+#include "integrators/volpath/volpath.h"
 
 namespace pl {
 

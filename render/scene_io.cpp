@@ -3,7 +3,7 @@
 #include <cmath>
 
 #include "core/film.h"
-#include "integrators/lighttrace.h"
+#include "integrators/lighttrace/lighttrace.h"
 #include "runtime/distributed.h"
 #include "runtime/memory_budget.h"
 #include "scene/homogeneous_core.h"

@@ -1,5 +1,5 @@
-// The learned predictor's inference, Eigen against libtorch (issue 30 asks
-// for both measured; docs/diffusion.md section 5 has the numbers). Same
+// The learned predictor's inference, Eigen against libtorch, both
+// measured (docs/learned.md has the numbers). Same
 // perceptron shape as the model (102 -> 64 -> 64 -> 1, ReLU), random
 // weights, batches of 768 rows (256 elements x 3 channels, as the
 // predictor runs it) or as given, one thread.

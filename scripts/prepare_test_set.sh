@@ -16,7 +16,7 @@ done
 cp data/models/cube10_clear.vdb data/grids/cube10_clear.vdb
 cat > data/scenes/testset/cube10_clear_surface.json <<JSON
 {
-  "comment": "10 mm clear block, white 4 mm core, a halftoned ring inlaid under the top face (issue 26).",
+  "comment": "10 mm clear block, white 4 mm core, a halftoned ring inlaid under the top face.",
   "environment": { "radiance": [1, 1, 1] },
   "object": {
     "ior": 1.5,

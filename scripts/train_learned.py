@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Trains printlight's learned predictor (`--integrator learned`, issue 30).
+"""Trains printlight's learned predictor (`--integrator learned`).
 
   scripts/train_learned.py [--build build] [--work /tmp/printlight-train]
       [--volumes 100] [--spp 16] [--seed 1] [--epochs 12]

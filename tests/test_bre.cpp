@@ -1,11 +1,11 @@
-// bre (integrators/bre.h): the radius schedule, the white furnace, and
+// bre (integrators/photons/bre.h): the radius schedule, the white furnace, and
 // agreement with volpath on homogeneous boxes with and without a refractive
 // boundary and on a halftoned box, over the voxels in the middle of the
 // faces (tests/progressive_estimate.h).
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "integrators/bre.h"
+#include "integrators/photons/bre.h"
 #include "progressive_estimate.h"
 #include "test_util.h"
 

@@ -1,4 +1,4 @@
-// The diffusion predictor (integrators/diffusion.h) against closed forms
+// The diffusion predictor (integrators/diffusion/diffusion.h) against closed forms
 // and the exact half-space: its exact single scattering through a layered
 // column, its sum of the profile over the surface (on a flat face far from
 // the edges it must give the profile's total), and its bias against the
@@ -9,7 +9,7 @@
 
 #include <tbb/global_control.h>
 
-#include "integrators/diffusion.h"
+#include "integrators/diffusion/diffusion.h"
 #include "media/beam_diffusion.h"
 #include "media/slab_transport.h"
 #include "render/render.h"

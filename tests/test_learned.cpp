@@ -1,4 +1,4 @@
-// The learned predictor (integrators/learned.h): its descriptor's pyramid
+// The learned predictor (integrators/learned/learned.h): its descriptor's pyramid
 // keeps the object's volume and coefficients at every level, the
 // descriptor is blind to a turn about the normal, the perceptron computes
 // what its weights say, the model refuses what it was not trained for,
@@ -11,7 +11,7 @@
 
 #include <tbb/global_control.h>
 
-#include "integrators/learned.h"
+#include "integrators/learned/learned.h"
 #include "core/input_error.h"
 #include "io/learned_model_io.h"
 #include "io/materials_io.h"

@@ -1,4 +1,4 @@
-// lighttrace (integrators/lighttrace.h) against the exact white furnace
+// lighttrace (integrators/lighttrace/lighttrace.h) against the exact white furnace
 // and against volpath with the same patch footprint, voxel by voxel, on
 // boxes of one material and of a halftone, with and without a refractive
 // boundary. Tolerances come from the standard errors both report (a

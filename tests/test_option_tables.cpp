@@ -9,10 +9,11 @@
 #include <string>
 #include <variant>
 
-#include "integrators/lighttrace.h"
-#include "integrators/printpt_options.h"
+#include "integrators/lighttrace/lighttrace.h"
+#include "integrators/printpt/printpt_options.h"
 #include "integrators/render_settings.h"
-#include "integrators/volpath.h"
+#include "integrators/volpath/volpath.h"
+#include "render/registry.h"
 #include "test_util.h"
 
 namespace pl {
@@ -54,6 +55,18 @@ TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
                                 printPtParameters().size() + breParameters().size() +
                                 beamParameters().size());
+}
+
+// The architecture's diagram names every registered estimator on its
+// "estimators:" line (docs/architecture.md, "Data flow").
+TEST(Docs, ArchitectureDiagramNamesEveryEstimator) {
+    const std::string doc = test::readText(test::sourceDir() / "docs/architecture.md");
+    const size_t at = doc.find("\nestimators:");
+    ASSERT_NE(at, std::string::npos) << "no 'estimators:' line in docs/architecture.md";
+    const std::string line = doc.substr(at + 1, doc.find('\n', at + 1) - at - 1) + " ";
+    for (const IntegratorKind& kind : integratorKinds())
+        if (std::string(kind.name) != "surface_reflection")  // the example a test registers
+            EXPECT_NE(line.find(std::string(" ") + kind.name + " "), std::string::npos) << kind.name << " not in: " << line;
 }
 
 }  // namespace

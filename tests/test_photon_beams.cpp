@@ -1,4 +1,4 @@
-// pb2d and bb1d (integrators/photon_beams.h): the beam map finds every beam
+// pb2d and bb1d (integrators/photons/photon_beams.h): the beam map finds every beam
 // near a point or a segment, the radius schedules, the white furnace, and
 // agreement with volpath on homogeneous boxes with and without a refractive
 // boundary and on a halftoned box, over the voxels in the middle of the
@@ -10,8 +10,8 @@
 
 #include "core/sampling.h"
 
-#include "integrators/bb1d.h"
-#include "integrators/pb2d.h"
+#include "integrators/photons/bb1d.h"
+#include "integrators/photons/pb2d.h"
 #include "progressive_estimate.h"
 #include "test_util.h"
 

@@ -434,7 +434,7 @@ TEST(PrintPt, SwitchesTheControlWalkCannotHonourTurnItOff) {
 }
 
 // Under a curved surface the control is the region below a paraboloid
-// with tabulated curvatures (integrators/half_space_walk.h): on a white
+// with tabulated curvatures (integrators/printpt/half_space_walk.h): on a white
 // ball, where the flat probes fail in red and green, printpt must still
 // agree with volpath, and the curved controls must take variance away in
 // those channels.

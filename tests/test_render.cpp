@@ -5,7 +5,7 @@
 #include <tbb/global_control.h>
 
 #include "core/fresnel.h"
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/half_space_walk.h"
 #include "render/render.h"
 #include "render_estimate.h"
 #include "test_util.h"

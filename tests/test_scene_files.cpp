@@ -8,9 +8,9 @@
 #include <string>
 #include <type_traits>
 
-#include "integrators/lighttrace.h"
-#include "integrators/printpt_options.h"
-#include "integrators/volpath.h"
+#include "integrators/lighttrace/lighttrace.h"
+#include "integrators/printpt/printpt_options.h"
+#include "integrators/volpath/volpath.h"
 #include "render/scene_io.h"
 #include "test_util.h"
 

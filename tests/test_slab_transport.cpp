@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/half_space_walk.h"
 #include "media/slab_transport.h"
 
 namespace pl {

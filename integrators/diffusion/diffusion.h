@@ -1,4 +1,4 @@
-// diffusion: the fast approximate predictor (issue 30; method and bias in
+// diffusion: the fast approximate predictor (method and bias in
 // docs/diffusion.md). Deterministic: per surface voxel (the sensor's, or
 // the label grid's for a camera), the light that uniform surroundings
 // bring out of the object along its normal is

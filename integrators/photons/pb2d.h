@@ -1,6 +1,6 @@
 // pb2d: photon beams gathered at points (UPBP's point-beam estimator with a
 // 2D kernel; Krivanek et al. 2014, Brecka 2021, 3.7.1), on the short beams
-// of integrators/photon_beams.h. A camera path walks to its first real
+// of integrators/photons/photon_beams.h. A camera path walks to its first real
 // collision x and gathers there, over every beam that passes within the
 // radius r of x (x's projection on the beam between its ends):
 //   throughput after the albedo x phase(beam direction -> camera)
@@ -10,7 +10,7 @@
 // (i + alpha) / (i + 1).
 #pragma once
 
-#include "integrators/photon_beams.h"
+#include "integrators/photons/photon_beams.h"
 
 namespace pl {
 

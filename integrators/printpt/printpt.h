@@ -23,7 +23,7 @@
 //  - branching: k independent walks from the entry point, weight 1/k each;
 //  - control variate (single channel, no NEE): each branch's walk runs
 //    coupled to a walk in a region of the entry's material whose mean is
-//    known (integrators/control/control_variate.h); the estimate is
+//    known (integrators/printpt/control_variate.h); the estimate is
 //    f - g + E[g];
 //  - next-event estimation towards the nearest surface (needs the `normal`
 //    and `sdf` grids of a prepared .vdb): at each collision a direction is
@@ -42,10 +42,10 @@
 #include <memory>
 #include <optional>
 
-#include "integrators/control/control_variate.h"
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/control_variate.h"
+#include "integrators/printpt/half_space_walk.h"
 #include "integrators/integrator.h"
-#include "integrators/printpt_options.h"
+#include "integrators/printpt/printpt_options.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "integrators/diffusion.h"
+#include "integrators/diffusion/diffusion.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 // bb1d: photon beams gathered along query beams (UPBP's beam-beam estimator
 // with a 1D kernel; Jarosz et al. 2011, Krivanek et al. 2014, Brecka 2021,
-// 3.7.1), on the short beams of integrators/photon_beams.h. A camera path's
+// 3.7.1), on the short beams of integrators/photons/photon_beams.h. A camera path's
 // flights up to its first real collision are short query beams (each point
 // of a flight is reached with probability its transmittance, so none is
 // tracked); each gathers every photon beam whose closest approach lies
@@ -13,7 +13,7 @@
 // (i + alpha) / (i + 1).
 #pragma once
 
-#include "integrators/photon_beams.h"
+#include "integrators/photons/photon_beams.h"
 
 namespace pl {
 

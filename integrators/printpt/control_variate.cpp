@@ -1,4 +1,4 @@
-#include "integrators/control/control_variate.h"
+#include "integrators/printpt/control_variate.h"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-#include "integrators/pb2d.h"
+#include "integrators/photons/pb2d.h"
 
 #include "core/sampling.h"
 #include "integrators/render_settings.h"

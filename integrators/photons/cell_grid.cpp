@@ -1,4 +1,4 @@
-#include "integrators/cell_grid.h"
+#include "integrators/photons/cell_grid.h"
 
 #include <tbb/parallel_sort.h>
 

@@ -1,4 +1,4 @@
-#include "integrators/volpath.h"
+#include "integrators/volpath/volpath.h"
 
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"

@@ -1,4 +1,4 @@
-// printpt's control variate (docs/architecture.md, "Control variate"): for
+// printpt's control variate (docs/printpt.md, "The control variate"): for
 // the branches that enter the object along a refracted ray, the region of
 // one homogeneous material (a half-space, a wedge at a right-angled edge,
 // or the region under a paraboloid) whose walk shares their random
@@ -40,9 +40,9 @@
 #include <tbb/enumerable_thread_specific.h>
 
 #include "integrators/channel_paths.h"
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/half_space_walk.h"
 #include "integrators/integrator.h"
-#include "integrators/printpt_options.h"
+#include "integrators/printpt/printpt_options.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "integrators/photon_beams.h"
+#include "integrators/photons/photon_beams.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -27,11 +27,11 @@
 #include <vector>
 
 #include "core/option_table.h"
-#include "integrators/cell_grid.h"
+#include "integrators/photons/cell_grid.h"
 #include "integrators/integrator.h"
-#include "integrators/photon_parts.h"
-#include "integrators/progressive_radius.h"
-#include "integrators/volpath.h"
+#include "integrators/photons/photon_parts.h"
+#include "integrators/photons/progressive_radius.h"
+#include "integrators/volpath/volpath.h"
 
 namespace pl {
 

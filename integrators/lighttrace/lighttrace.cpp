@@ -1,4 +1,4 @@
-#include "integrators/lighttrace.h"
+#include "integrators/lighttrace/lighttrace.h"
 
 #include <tbb/task_arena.h>
 

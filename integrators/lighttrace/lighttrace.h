@@ -1,6 +1,6 @@
 // lighttrace: light tracing into the surface-voxel sensor's patches, where
 // one light path serves every voxel whose measurement lines it crosses
-// (docs/architecture.md, "Light tracing into the surface-voxel sensor").
+// (docs/lighttrace.md).
 // A patch's value, the radiance leaving it along its normal averaged over
 // it, is split in two:
 //  - the camera side (cameraSide): the environment reflected at the surface, and
@@ -29,8 +29,8 @@
 #include "core/option_table.h"
 #include "core/prism_index.h"
 #include "core/sensors.h"
-#include "integrators/printpt.h"
-#include "integrators/volpath.h"
+#include "integrators/printpt/printpt.h"
+#include "integrators/volpath/volpath.h"
 
 namespace pl {
 

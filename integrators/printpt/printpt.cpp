@@ -1,10 +1,10 @@
-#include "integrators/printpt.h"
+#include "integrators/printpt/printpt.h"
 
 #include <type_traits>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
-#include "integrators/control/controlled_path.h"
+#include "integrators/printpt/controlled_path.h"
 #include "integrators/render_settings.h"
 #include "media/ball_walk.h"
 

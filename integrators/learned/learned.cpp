@@ -1,4 +1,4 @@
-#include "integrators/learned.h"
+#include "integrators/learned/learned.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,5 +1,5 @@
-// learned: the trained predictor (issue 30, after Rittig et al. 2021; the
-// training in scripts/train_learned.py, measurements in docs/diffusion.md).
+// learned: the trained predictor (after Rittig et al. 2021; the
+// training in scripts/train_learned.py, measurements in docs/learned.md).
 // Deterministic: per surface element, the descriptor of the labels under
 // it (label_descriptor.h) goes through the model's perceptron, one channel
 // at a time; rays read the result as for every surface-response predictor
@@ -8,7 +8,7 @@
 
 #include <memory>
 
-#include "integrators/label_descriptor.h"
+#include "integrators/learned/label_descriptor.h"
 #include "io/learned_model.h"
 #include "integrators/surface_response.h"
 

@@ -1,4 +1,4 @@
-#include "integrators/label_descriptor.h"
+#include "integrators/learned/label_descriptor.h"
 
 #include <cmath>
 

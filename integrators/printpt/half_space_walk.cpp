@@ -1,4 +1,4 @@
-#include "integrators/half_space_walk.h"
+#include "integrators/printpt/half_space_walk.h"
 
 #include <algorithm>
 #include <vector>

@@ -1,4 +1,4 @@
-#include "integrators/bb1d.h"
+#include "integrators/photons/bb1d.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "integrators/bre.h"
+#include "integrators/photons/bre.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,8 +6,8 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
-#include "integrators/photon_parts.h"
-#include "integrators/progressive_radius.h"
+#include "integrators/photons/photon_parts.h"
+#include "integrators/photons/progressive_radius.h"
 #include "integrators/render_settings.h"
 #include "media/dda.h"
 

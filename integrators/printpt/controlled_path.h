@@ -14,8 +14,8 @@
 #include <algorithm>
 
 #include "integrators/channel_paths.h"
-#include "integrators/half_space_walk.h"
-#include "integrators/printpt_options.h"
+#include "integrators/printpt/half_space_walk.h"
+#include "integrators/printpt/printpt_options.h"
 
 namespace pl {
 

@@ -1,4 +1,4 @@
-#include "integrators/printpt_options.h"
+#include "integrators/printpt/printpt_options.h"
 
 namespace pl {
 
@@ -29,7 +29,7 @@ const std::vector<PrintPtParameter>& printPtParameters() {
         {"nee_roulette_depth", &O::neeRouletteDepth, 0, 100, true, "must be an optical depth in (0, 100]",
          "optical depth past which NEE's transmittance is tracked with Russian roulette"},
         {"control_variate", &O::controlVariate, 0, 0, false, "",
-         "each walk coupled to a walk in a region of known mean (integrators/control)"},
+         "each walk coupled to a walk in a region of known mean (integrators/printpt/control_variate.h)"},
         {"control_walks", &O::controlWalks, 1024, 1e9, false, "must be a whole number of walks in 1024..1e9",
          "Monte Carlo walks behind a wedge's mean (x 1/4) or a curved region's (x 1/32)"},
         {"control_probe", &O::controlProbe, 0, 100, false, kDiffusion,
