@@ -209,12 +209,11 @@ bool converged(const Film& film, size_t p, const std::vector<int>& channels, con
 }
 
 // Whether samples drawn with `a` may be pooled with samples drawn with `b`:
-// the same paths but for their number (the options of the estimators that
-// record footprints, volpath's, included).
+// the same paths but for their number (the estimator's parameters
+// included).
 bool sameButSpp(const RenderSettings& a, const RenderSettings& b) {
     return a.integrator == b.integrator && a.seed == b.seed && a.reentry == b.reentry && a.channels == b.channels &&
-           a.channelSampling == b.channelSampling && a.majorants == b.majorants &&
-           a.volpath.maxDepth == b.volpath.maxDepth && a.volpath.clearanceFirst == b.volpath.clearanceFirst;
+           a.channelSampling == b.channelSampling && a.majorants == b.majorants && a.parameters == b.parameters;
 }
 
 // The film's estimate of every voxel, into p.
@@ -249,7 +248,7 @@ void Predictor::predictByControlVariates(const RenderSettings& rs, SurfacePredic
     const Sensor& sensor = *state_->sensor;
     const size_t n = sensor.pixelCount();
     const auto t0 = std::chrono::steady_clock::now();
-    RenderRounds rounds(state_->scene, sensor, rs, false, true, controlMeans_);
+    RenderRounds rounds(state_->scene, sensor, rs, false, true);
     // The same seed again would draw the same samples: not new evidence.
     RenderSettings seedAside = rs;
     if (running_) seedAside.seed = running_->settings.seed;
@@ -326,7 +325,7 @@ void Predictor::predictCarryingOver(const RenderSettings& rs, SurfacePrediction&
     const Sensor& sensor = *state_->sensor;
     const size_t n = sensor.pixelCount();
     const auto t0 = std::chrono::steady_clock::now();
-    RenderRounds rounds(state_->scene, sensor, rs, false, true, controlMeans_);
+    RenderRounds rounds(state_->scene, sensor, rs, false, true);
     p.startedAfresh = !carried_ || !sameButSpp(carried_->settings, rs);
     if (p.startedAfresh) {
         carried_ = std::make_unique<CarriedSamples>();
@@ -424,7 +423,7 @@ SurfacePrediction Predictor::predictAfresh(const RenderSettings& rs, const std::
     // rank receives the whole film after each round (pooled on rank 0), so
     // that all decide the next round alike.
     const auto t0 = std::chrono::steady_clock::now();
-    RenderRounds rounds(state_->scene, sensor, rs, acrossRanks_, true, controlMeans_);
+    RenderRounds rounds(state_->scene, sensor, rs, acrossRanks_, true);
     RenderResult& r = rounds.result();
     r.seconds += secondsSince(t0);
     if (voxels) {

@@ -156,9 +156,6 @@ private:
     void dropRunningEstimate();
     bool acrossRanks_ = false;
     double pendingUpdateSeconds_ = 0;
-    // printpt's Monte Carlo control means, kept across iterations (they
-    // depend on the materials and settings, not on the labels).
-    std::shared_ptr<HalfSpaceMeans> controlMeans_ = std::make_shared<HalfSpaceMeans>();
 };
 
 }  // namespace pl

@@ -50,121 +50,112 @@ namespace pl {
 
 namespace {
 
-// Named estimator configurations: printpt with one switch changed each
-// (more with /key=value overrides, see parseConfiguration).
-std::map<std::string, RenderSettings> configurations(const RenderSettings& base) {
-    std::map<std::string, RenderSettings> c;
-    RenderSettings v = base;
-    v.integrator = "volpath";
-    v.reentry = false;
-    c["volpath"] = v;
+// Named configurations: every registered estimator by its name, with its
+// defaults, and these variants of them, each an estimator and its
+// overrides (parseConfiguration).
+const std::vector<std::pair<const char*, const char*>> kVariants = {
     // Every flight starts with a boundary query (no clearance first).
-    RenderSettings geometryFirst = v;
-    geometryFirst.volpath.clearanceFirst = false;
-    c["volpath-geometry-first"] = geometryFirst;
-    RenderSettings p = v;
-    p.integrator = "printpt";
-    p.printpt = PrintPtOptions{};
-    c["printpt"] = p;
-    auto variant = [&](const char* name, auto change) {
-        RenderSettings q = p;
-        change(q.printpt);
-        c[name] = q;
-    };
+    {"volpath-geometry-first", "volpath/clearance_first=0"},
     // The thesis' Russian roulette: survival min(0.99, throughput) at every collision.
-    variant("printpt-brecka", [](PrintPtOptions& o) { o.rrCap = 0.99f; o.rrThreshold = o.rrThresholdAbsorbing = 1.0f; });
-    variant("printpt-analog", [](PrintPtOptions& o) { o.rrThreshold = o.rrThresholdAbsorbing = 1.0f; });
-    variant("printpt-k1", [](PrintPtOptions& o) { o.branches = 1; });
-    variant("printpt-k16", [](PrintPtOptions& o) { o.branches = 16; });
-    variant("printpt-geometry-first", [](PrintPtOptions& o) { o.mediumFirst = false; });
-    variant("printpt-no-clearance", [](PrintPtOptions& o) { o.clearance = false; });
-    variant("printpt-no-balls", [](PrintPtOptions& o) { o.ballWalks = false; });
-    variant("printpt-random-fresnel", [](PrintPtOptions& o) { o.fresnelWeighting = false; });
-    variant("printpt-nee", [](PrintPtOptions& o) { o.nee = true; });
+    {"printpt-brecka", "printpt/rr_cap=0.99/rr_threshold=1/rr_threshold_absorbing=1"},
+    {"printpt-analog", "printpt/rr_threshold=1/rr_threshold_absorbing=1"},
+    {"printpt-k1", "printpt/branches=1"},
+    {"printpt-k16", "printpt/branches=16"},
+    {"printpt-geometry-first", "printpt/medium_first=0"},
+    {"printpt-no-clearance", "printpt/clearance=0"},
+    {"printpt-no-balls", "printpt/ball_walks=0"},
+    {"printpt-random-fresnel", "printpt/fresnel_weighting=0"},
+    {"printpt-nee", "printpt/nee=1"},
     // Light tracing (the sensor must have the patch footprint): the light
     // side scoring into every pixel (no hybrid), scoring at collisions,
     // along tracks at other spacings, more particles per block.
-    RenderSettings light = v;
-    light.integrator = "lighttrace";
-    c["lighttrace"] = light;
-    RenderSettings lightEverywhere = light;
-    lightEverywhere.lighttrace.hybrid = false;
-    c["lighttrace-no-hybrid"] = lightEverywhere;
-    RenderSettings collisions = light;
-    collisions.lighttrace.scoring = LightTraceOptions::Scoring::Collisions;
-    c["lighttrace-collisions"] = collisions;
-    for (const auto& [spacing_mfp, name] : {std::pair<float, const char*>{0.5f, "0.5"}, {2.0f, "2"}}) {
-        RenderSettings tracks = light;
-        tracks.lighttrace.trackSpacing_mfp = spacing_mfp;
-        c[std::string("lighttrace-tracks-") + name] = tracks;
-    }
-    for (float particles : {4.0f, 16.0f}) {
-        light.lighttrace.particlesPerPixel = particles;
-        c["lighttrace-p" + std::to_string(int(particles))] = light;
-    }
-    // The fast approximate predictors (deterministic: one sample says all)
-    // and the photon estimators, with their defaults.
-    for (const char* other : {"diffusion", "learned", "bre", "pb2d", "bb1d"}) {
-        RenderSettings q = v;
-        q.integrator = other;
-        c[other] = q;
-    }
+    {"lighttrace-no-hybrid", "lighttrace/lighttrace_hybrid=0"},
+    {"lighttrace-collisions", "lighttrace/lighttrace_scoring=collisions"},
+    {"lighttrace-tracks-0.5", "lighttrace/lighttrace_track_spacing_mfp=0.5"},
+    {"lighttrace-tracks-2", "lighttrace/lighttrace_track_spacing_mfp=2"},
+    {"lighttrace-p4", "lighttrace/particles_per_pixel=4"},
+    {"lighttrace-p16", "lighttrace/particles_per_pixel=16"},
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
-    for (const char* integrator : {"volpath", "printpt"}) {
-        RenderSettings q = c[integrator];
-        q.majorants = Majorants::Global;
-        c[std::string(integrator) + "-global-majorant"] = q;
-    }
+    {"volpath-global-majorant", "volpath/majorants=global"},
+    {"printpt-global-majorant", "printpt/majorants=global"},
     // Three channels: one pass per channel, or one path for all three.
-    for (const char* integrator : {"volpath", "printpt"})
-        for (ChannelSampling sampling : {ChannelSampling::Separate, ChannelSampling::Hero, ChannelSampling::Spectral}) {
-            RenderSettings q = c[integrator];
-            q.channelSampling = sampling;
-            c[std::string(integrator) + "-" + channelSamplingName(sampling)] = q;
-        }
-    return c;
+    {"volpath-separate", "volpath/channel_sampling=separate"},
+    {"volpath-hero", "volpath/channel_sampling=hero"},
+    {"volpath-spectral", "volpath/channel_sampling=spectral"},
+    {"printpt-separate", "printpt/channel_sampling=separate"},
+    {"printpt-hero", "printpt/channel_sampling=hero"},
+    {"printpt-spectral", "printpt/channel_sampling=spectral"},
+};
+
+// One override of a configuration: a render-block name (majorants,
+// channel_sampling) or a key of the estimator's own, as the scene file
+// spells it ("k" is printpt's branches).
+void applyOverride(RenderSettings& s, std::string key, const std::string& value) {
+    if (key == "k") key = "branches";
+    if (key == "majorants" || key == "channel_sampling") {
+        const bool known = key == "majorants" ? parseEnum(kMajorantsNames, value).has_value()
+                                              : parseEnum(kChannelSamplingNames, value).has_value();
+        if (!known)
+            throw std::invalid_argument(key + ": must be " + (key == "majorants" ? enumNames(kMajorantsNames)
+                                                                                  : enumNames(kChannelSamplingNames)));
+        if (key == "majorants") s.majorants = *parseEnum(kMajorantsNames, value);
+        else s.channelSampling = *parseEnum(kChannelSamplingNames, value);
+        return;
+    }
+    const ParameterInfo* info = findParameter(integratorKindOf(s).factory.parameters(), key);
+    if (info && info->isText()) {
+        s.parameters.setText(key, value);
+        return;
+    }
+    try {
+        s.parameters.set(key, value == "true" ? 1.0 : value == "false" ? 0.0 : std::stod(value));
+    } catch (const std::exception&) {
+        throw std::invalid_argument(key + ": needs a number");
+    }
 }
 
-// A named configuration with printpt's, lighttrace's or a photon
-// estimator's options overridden after slashes, e.g.
-// "printpt/k=1/rr_threshold=0.2/nee=1", "lighttrace/particles_per_pixel=2",
-// "pb2d/beams_radius_voxels=4". Keys are the scene file's render
-// keys; nullopt for an unknown name.
-std::optional<RenderSettings> parseConfiguration(const std::string& spec,
-                                                 const std::map<std::string, RenderSettings>& named) {
+// A configuration: a name (an estimator's or a variant's) and overrides
+// after slashes, e.g. "printpt/k=1/rr_threshold=0.2/nee=1",
+// "lighttrace/particles_per_pixel=2", "pb2d/beams_radius_voxels=4",
+// "printpt-hero/majorants=global"; nullopt for an unknown name. Each
+// starts from the scene's settings with the estimator's defaults.
+std::optional<RenderSettings> parseConfiguration(const std::string& spec, const RenderSettings& base) {
     std::vector<std::string> parts = splitList(spec, '/');
-    if (parts.empty() || !named.count(parts[0])) return std::nullopt;
-    RenderSettings s = named.at(parts[0]);
-    for (size_t i = 1; i < parts.size(); ++i) {
-        size_t eq = parts[i].find('=');
-        const bool beams = s.integrator == "pb2d" || s.integrator == "bb1d";
-        const bool photons = s.integrator == "bre" || beams;
-        if (eq == std::string::npos || (s.integrator != "printpt" && s.integrator != "lighttrace" && !photons))
-            throw UsageError("configuration '" + spec +
-                             "': overrides are key=value on a printpt, lighttrace or photon configuration");
-        std::string key = parts[i].substr(0, eq);
-        double v = 0;
-        try {
-            v = std::stod(parts[i].substr(eq + 1));
-        } catch (const std::exception&) {
-            throw UsageError("configuration '" + spec + "': " + key + " needs a number");
+    if (parts.empty()) return std::nullopt;
+    for (const auto& [name, variant] : kVariants)
+        if (parts[0] == name) {
+            std::vector<std::string> own = splitList(variant, '/');
+            parts.erase(parts.begin());
+            parts.insert(parts.begin(), own.begin(), own.end());
+            break;
         }
-        if (key == "k") key = "branches";
-        // lighttrace's camera side is printpt: both tables apply to it.
-        std::string problem;
-        if (const auto* p = s.integrator == "lighttrace" ? findOption(lightTraceParameters(), key) : nullptr)
-            problem = setOption(*p, s.lighttrace, v);
-        else if (const auto* b = s.integrator == "bre" ? findOption(breParameters(), key) : nullptr)
-            problem = setOption(*b, s.bre, v);
-        else if (const auto* m = beams ? findOption(beamParameters(), key) : nullptr)
-            problem = setOption(*m, s.beams, v);
-        else if (const auto* q = photons ? nullptr : findOption(printPtParameters(), key))
-            problem = setOption(*q, s.printpt, v);
-        else
-            throw UsageError("configuration '" + spec + "': unknown key '" + key + "'");
-        if (!problem.empty()) throw UsageError("configuration '" + spec + "': " + key + " " + problem);
+    if (!findIntegratorKind(parts[0])) return std::nullopt;
+    RenderSettings s = base;
+    s.integrator = parts[0];
+    s.reentry = false;
+    s.parameters = EstimatorParameters{};
+    s.parameters.materialsFile = base.parameters.materialsFile;
+    for (size_t i = 1; i < parts.size(); ++i) {
+        const size_t eq = parts[i].find('=');
+        if (eq == std::string::npos) throw UsageError("configuration '" + spec + "': overrides are key=value");
+        try {
+            applyOverride(s, parts[i].substr(0, eq), parts[i].substr(eq + 1));
+        } catch (const std::invalid_argument& e) {
+            throw UsageError("configuration '" + spec + "': " + e.what());
+        }
     }
+    const IntegratorKind& kind = integratorKindOf(s);
+    if (auto problem = checkParameters(kind.factory.parameters(), s.parameters, kind.name))
+        throw UsageError("configuration '" + spec + "': " + problem->key + ": " + problem->what);
     return s;
+}
+
+// The names bench knows: the estimators' and the variants'.
+std::vector<std::string> configurationNames() {
+    std::vector<std::string> names;
+    for (const IntegratorKind& k : integratorKinds()) names.push_back(k.name);
+    for (const auto& v : kVariants) names.push_back(v.first);
+    return names;
 }
 
 struct Row {
@@ -406,15 +397,14 @@ struct ChosenConfigurations {
 };
 
 ChosenConfigurations chooseConfigurations(const Arguments& args, const RenderSettings& base) {
-    auto all = configurations(base);
     ChosenConfigurations chosen;
     chosen.names = splitList(args.value("--configs").value_or("volpath,printpt"));
     for (const std::string& n : chosen.names) {
-        auto s = parseConfiguration(n, all);
+        auto s = parseConfiguration(n, base);
         if (!s) {
             std::string known;
-            for (const auto& [k, v] : all) known += " " + k;
-            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (printpt, lighttrace and photon ones take /key=value overrides)");
+            for (const std::string& k : configurationNames()) known += " " + k;
+            throw UsageError("unknown configuration '" + n + "'; known:" + known + " (each takes /key=value overrides)");
         }
         chosen.settings[n] = *s;
         chosen.needs |= sceneNeedsOf(*s);

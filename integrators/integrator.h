@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/estimator_parameters.h"
 #include "core/film.h"
 #include "core/fresnel.h"
 #include "core/path_stats.h"
@@ -26,7 +27,6 @@
 namespace pl {
 
 class Sensor;
-class HalfSpaceMeans;
 struct RenderSettings;
 
 // Boundary events in a row, without scattering, after which a path counts
@@ -144,10 +144,12 @@ struct RenderPass {
 // An estimator: it renders passes, each in the way it needs (one camera
 // path per pixel sample, or light paths shared by every pixel). Each class
 // also declares, as static members the registry reads (render/registry.h):
+//   static std::vector<ParameterInfo> parameters();  (the render keys it reads)
 //   static IntegratorCapabilities capabilities(const RenderSettings&);
 //   static std::unique_ptr<Integrator> create(const Scene&, const Sensor&,
-//       const RenderSettings&, std::shared_ptr<HalfSpaceMeans> controlMeans);
-// and, if some settings cannot run, refusal (inherited: none).
+//       const RenderSettings&);
+// and, if some settings cannot run, refusal (inherited: none). Each reads
+// its options from RenderSettings::parameters (readOptions) itself.
 class Integrator {
 public:
     virtual ~Integrator() = default;
@@ -162,6 +164,8 @@ public:
 
     // Why these settings cannot run (one line, naming the scene key), or "".
     static std::string refusal(const RenderSettings& /*settings*/) { return {}; }
+    // The render keys it reads (inherited: none).
+    static std::vector<ParameterInfo> parameters() { return {}; }
 };
 
 // The pass's pixels in tiles on the scheduler, each tile by one thread:

@@ -1,6 +1,7 @@
-// What a render is asked for: the estimator by name and its options, the
-// samples (or a time budget, or a target error), seed, channels and how
-// they are sampled. Read from a scene's "render" block (render/scene_io.h).
+// What a render is asked for: the estimator by name and its parameters
+// (each estimator reads its own), the samples (or a time budget, or a
+// target error), seed, channels and how they are sampled. Read from a
+// scene's "render" block (render/scene_io.h).
 #pragma once
 
 #include <cstdint>
@@ -8,12 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "core/estimator_parameters.h"
 #include "core/option_table.h"
-#include "integrators/photons/bre.h"
-#include "integrators/lighttrace/lighttrace.h"
-#include "integrators/photons/photon_beams.h"
-#include "integrators/printpt/printpt.h"
-#include "integrators/volpath/volpath.h"
+#include "integrators/channel_paths.h"
+#include "media/label_medium.h"
 
 namespace pl {
 
@@ -35,20 +34,15 @@ struct RenderSettings {
     // Free flights against per-brick majorants, or the textbook tracker's
     // one global majorant (single-channel paths; for measurements).
     Majorants majorants = Majorants::PerBrick;
-    VolPathOptions volpath;
-    PrintPtOptions printpt;
-    LightTraceOptions lighttrace;
-    BreOptions bre;
-    BeamOptions beams;  // pb2d and bb1d
-    // The learned predictor's model (io/learned_model_io.h): by default the
-    // one beside the scene's material table.
-    std::filesystem::path learnedModel;
+    // The render block's other keys: the estimator's own, which it reads
+    // in its factory (its parameters() declare them; render/registry.h).
+    EstimatorParameters parameters;
     bool showProgress = false;
 };
 
 // The render block's own numeric and boolean options by their scene-file
-// names (core/option_table.h); integrator, channel, channel_sampling,
-// majorants and learned_model are names and paths (render/scene_io).
+// names (core/option_table.h); integrator, channel, channel_sampling and
+// majorants are names (render/scene_io).
 const std::vector<OptionParameter<RenderSettings>>& renderParameters();
 
 }  // namespace pl

@@ -36,14 +36,14 @@ double medianRelativeError(const Film& film, const Sensor& sensor, const Radianc
 }
 
 RenderRounds::RenderRounds(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks,
-                           bool filmOnEveryRank, std::shared_ptr<HalfSpaceMeans> controlMeans)
+                           bool filmOnEveryRank)
     : scene_(scene),
       sensor_(sensor),
       settings_(settings),
       share_(acrossRanks ? PixelShare::ofThisRank(sensor.pixelCount()) : PixelShare{}),
       filmOnEveryRank_(filmOnEveryRank),
       result_{Film(sensor.pixelCount())} {
-    runOnEveryRank([&] { integrator_ = makeIntegrator(scene, sensor, settings, std::move(controlMeans)); },
+    runOnEveryRank([&] { integrator_ = makeIntegrator(scene, sensor, settings); },
                    share_.acrossRanks);
 }
 

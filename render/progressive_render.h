@@ -35,10 +35,9 @@ double medianRelativeError(const Film& film, const Sensor& sensor, const Radianc
 // sampling decide their rounds with it.
 class RenderRounds {
 public:
-    // acrossRanks: every rank makes the same calls, in step. controlMeans:
-    // as for makeIntegrator.
+    // acrossRanks: every rank makes the same calls, in step.
     RenderRounds(const Scene& scene, const Sensor& sensor, const RenderSettings& settings, bool acrossRanks,
-                 bool filmOnEveryRank = false, std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+                 bool filmOnEveryRank = false);
     ~RenderRounds();
     // Samples [first, first + count) of these pixels (all: none). Rank 0's
     // film and statistics hold the rounds so far (every rank's, with

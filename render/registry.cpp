@@ -49,6 +49,13 @@ const IntegratorKind& integratorKindOf(const RenderSettings& settings) {
     return *kind;
 }
 
+std::string refusalOf(const RenderSettings& settings) {
+    const IntegratorKind& kind = integratorKindOf(settings);
+    if (auto problem = checkParameters(kind.factory.parameters(), settings.parameters, kind.name))
+        return "render." + problem->key + ": " + problem->what;
+    return kind.factory.refusal(settings);
+}
+
 std::string integratorNames() {
     std::string names;
     const auto& all = integratorKinds();

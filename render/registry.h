@@ -18,17 +18,18 @@
 namespace pl {
 
 struct IntegratorFactory {
+    // The render keys the estimator reads (RenderSettings::parameters).
+    std::vector<ParameterInfo> (*parameters)();
     IntegratorCapabilities (*capabilities)(const RenderSettings&);
     // Why these settings cannot run (one line, naming the scene key), or "".
     std::string (*refusal)(const RenderSettings&);
-    std::unique_ptr<Integrator> (*create)(const Scene&, const Sensor&, const RenderSettings&,
-                                          std::shared_ptr<HalfSpaceMeans>);
+    std::unique_ptr<Integrator> (*create)(const Scene&, const Sensor&, const RenderSettings&);
 };
 
 // The factory of estimator class E.
 template <class E>
 IntegratorFactory factoryOf() {
-    return {&E::capabilities, &E::refusal, &E::create};
+    return {&E::parameters, &E::capabilities, &E::refusal, &E::create};
 }
 
 struct IntegratorKind {
@@ -53,7 +54,8 @@ inline IntegratorCapabilities capabilitiesOf(const RenderSettings& settings) {
 }
 // What the scene must load for these settings' integrator.
 inline SceneNeeds sceneNeedsOf(const RenderSettings& settings) { return capabilitiesOf(settings).needs; }
-// Why the settings' integrator cannot run them, or "".
-inline std::string refusalOf(const RenderSettings& settings) { return integratorKindOf(settings).factory.refusal(settings); }
+// Why the settings' integrator cannot run them, or "": a parameter it
+// does not read or out of its range ("render.KEY: what"), or its own refusal.
+std::string refusalOf(const RenderSettings& settings);
 
 }  // namespace pl

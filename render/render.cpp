@@ -22,10 +22,9 @@ std::vector<int> passesOf(const RenderSettings& settings) {
 
 }  // namespace
 
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                           std::shared_ptr<HalfSpaceMeans> controlMeans) {
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
     std::unique_ptr<Integrator> integrator =
-        integratorKindOf(settings).factory.create(scene, sensor, settings, std::move(controlMeans));
+        integratorKindOf(settings).factory.create(scene, sensor, settings);
     if (!rendersChannelsInOnePass(settings)) integrator->preprocess(sensor, passesOf(settings));
     return integrator;
 }

@@ -38,12 +38,8 @@ RenderResult render(const Scene& scene, const Sensor& sensor, const RenderSettin
 
 // The integrator the settings name, made for this scene and sensor and
 // ready to render them (printpt has surveyed the sensor): it lives as long
-// as they do, across rounds of renderSamples. controlMeans: where printpt
-// keeps its Monte Carlo control means (a caller that renders the same
-// materials many times may share one cache between integrators; none:
-// the integrator's own).
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                           std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+// as they do, across rounds of renderSamples.
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
 // True if the render takes all three channels from one path per sample.
 bool rendersChannelsInOnePass(const RenderSettings& settings);

@@ -23,8 +23,8 @@ constexpr int kMaxImageSide = 16384;
 
 // The render block's keys of one options table (core/option_table.h).
 template <class Options>
-void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::vector<OptionParameter<Options>>& table,
-                 Options& options) {
+void readTable(const JsonReader& json, const nlohmann::json& ren, const std::vector<OptionParameter<Options>>& table,
+               Options& options) {
     using Kind = typename OptionParameter<Options>::Kind;
     for (const OptionParameter<Options>& p : table) {
         if (!ren.contains(p.name)) continue;
@@ -33,6 +33,33 @@ void readOptions(const JsonReader& json, const nlohmann::json& ren, const std::v
                                                          : json.number(ren, p.name, "render");
         const std::string problem = setOption(p, options, value);
         if (!problem.empty()) json.fail(std::string("render.") + p.name, problem);
+    }
+}
+
+// The render block's keys that are not its own: the estimator's, as given
+// (checked against its keys by checkParameters). Paths are taken from the
+// scene file's folder.
+const std::vector<std::string> kRenderBlockNames = {"integrator", "channel", "channel_sampling", "majorants"};
+
+void readEstimatorParameters(const JsonReader& json, const nlohmann::json& ren, const std::vector<ParameterInfo>& infos,
+                             const std::filesystem::path& dir, EstimatorParameters& parameters) {
+    using Kind = ParameterInfo::Kind;
+    for (const auto& [key, value] : ren.items()) {
+        if (findOption(renderParameters(), key) ||
+            std::find(kRenderBlockNames.begin(), kRenderBlockNames.end(), key) != kRenderBlockNames.end())
+            continue;
+        const ParameterInfo* info = findParameter(infos, key);
+        const std::string where = "render." + key;
+        if (info && info->kind == Kind::Boolean && !value.is_boolean()) json.fail(where, "must be true or false");
+        if (info && !info->isText() && info->kind != Kind::Boolean && !value.is_number())
+            json.fail(where, "must be a number");
+        if (info && info->isText() && !value.is_string()) json.fail(where, "must be a string");
+        if (value.is_boolean()) parameters.set(key, value.get<bool>() ? 1.0 : 0.0);
+        else if (value.is_number()) parameters.set(key, value.get<double>());
+        else if (value.is_string())
+            parameters.setText(key, info && info->kind == Kind::Path ? (dir / value.get<std::string>()).string()
+                                                                     : value.get<std::string>());
+        else json.fail(where, "must be a number, true or false, or a string");
     }
 }
 
@@ -149,21 +176,16 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
                  SceneDescription& d) {
     const SensorDescription& s = d.sensor;
     RenderSettings& r = d.render;
-    r.learnedModel = learnedModelBeside(d.materialsFile);
+    r.parameters.materialsFile = d.materialsFile;
     if (root.contains("render")) {
         const auto& ren = json.object(root, "render", "");
-        std::vector<std::string> keys = {"integrator", "channel", "channel_sampling", "majorants", "lighttrace_scoring",
-                                         "learned_model"};
-        for (const auto& p : renderParameters()) keys.push_back(p.name);
-        for (const auto& p : volPathParameters()) keys.push_back(p.name);
-        for (const auto& p : lightTraceParameters()) keys.push_back(p.name);
-        for (const auto& p : printPtParameters()) keys.push_back(p.name);
-        for (const auto& p : breParameters()) keys.push_back(p.name);
-        for (const auto& p : beamParameters()) keys.push_back(p.name);
-        json.expectOnlyKeys(ren, "render", keys);
         r.integrator = json.string(ren, "integrator", "render", "volpath");
-        if (!findIntegratorKind(r.integrator)) json.fail("render.integrator", "must be " + integratorNames());
-        readOptions(json, ren, renderParameters(), r);
+        const IntegratorKind* kind = findIntegratorKind(r.integrator);
+        if (!kind) json.fail("render.integrator", "must be " + integratorNames());
+        readTable(json, ren, renderParameters(), r);
+        readEstimatorParameters(json, ren, kind->factory.parameters(), dir, r.parameters);
+        if (auto problem = checkParameters(kind->factory.parameters(), r.parameters, kind->name))
+            json.fail("render." + problem->key, problem->what);
         // With a budget or a target, spp is the most samples: none unless given.
         const bool progressive = r.timeBudget_s > 0 || r.targetRelativeError > 0;
         if (progressive && !ren.contains("spp")) r.spp = uint32_t(RenderSettings::kMostSpp);
@@ -172,14 +194,6 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
         r.channels = *ch;
         r.channelSampling = json.choice(ren, "channel_sampling", "render", kChannelSamplingNames, r.channelSampling);
         r.majorants = json.choice(ren, "majorants", "render", kMajorantsNames, r.majorants);
-        r.lighttrace.scoring =
-            json.choice(ren, "lighttrace_scoring", "render", kLightTraceScoringNames, r.lighttrace.scoring);
-        if (ren.contains("learned_model")) r.learnedModel = dir / json.string(ren, "learned_model", "render");
-        readOptions(json, ren, volPathParameters(), r.volpath);
-        readOptions(json, ren, lightTraceParameters(), r.lighttrace);
-        readOptions(json, ren, printPtParameters(), r.printpt);
-        readOptions(json, ren, breParameters(), r.bre);
-        readOptions(json, ren, beamParameters(), r.beams);
         if (std::string why = refusalOf(r); !why.empty()) json.fail("render.integrator", why);
     }
     if (!(capabilitiesOf(r).sensors & sensorKindOf(s)))
@@ -252,15 +266,19 @@ nlohmann::ordered_json renderBlockOf(const SceneDescription& d, const std::files
     if (r.channelSampling != defaults.channelSampling)
         ren["channel_sampling"] = enumName(kChannelSamplingNames, r.channelSampling);
     if (r.majorants != defaults.majorants) ren["majorants"] = enumName(kMajorantsNames, r.majorants);
-    if (r.lighttrace.scoring != defaults.lighttrace.scoring)
-        ren["lighttrace_scoring"] = enumName(kLightTraceScoringNames, r.lighttrace.scoring);
-    if (!r.learnedModel.empty() && r.learnedModel != learnedModelBeside(d.materialsFile))
-        ren["learned_model"] = relativeTo(r.learnedModel, dir);
-    writeOptions(volPathParameters(), r.volpath, defaults.volpath, ren);
-    writeOptions(lightTraceParameters(), r.lighttrace, defaults.lighttrace, ren);
-    writeOptions(printPtParameters(), r.printpt, defaults.printpt, ren);
-    writeOptions(breParameters(), r.bre, defaults.bre, ren);
-    writeOptions(beamParameters(), r.beams, defaults.beams, ren);
+    // The estimator's parameters as given, each as its key reads.
+    using Kind = ParameterInfo::Kind;
+    const std::vector<ParameterInfo> infos = integratorKindOf(r).factory.parameters();
+    for (const auto& [key, value] : r.parameters.numbers()) {
+        const ParameterInfo* info = findParameter(infos, key);
+        if (info && info->kind == Kind::Boolean) ren[key] = value != 0;
+        else if (info && info->kind == Kind::Integer) ren[key] = int64_t(value);
+        else ren[key] = value;
+    }
+    for (const auto& [key, text] : r.parameters.texts()) {
+        const ParameterInfo* info = findParameter(infos, key);
+        ren[key] = info && info->kind == Kind::Path ? relativeTo(text, dir) : text;
+    }
     return ren;
 }
 

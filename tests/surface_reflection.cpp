@@ -13,8 +13,7 @@ IntegratorCapabilities SurfaceReflection::capabilities(const RenderSettings&) {
     return c;
 }
 
-std::unique_ptr<Integrator> SurfaceReflection::create(const Scene& scene, const Sensor&, const RenderSettings&,
-                                                      std::shared_ptr<HalfSpaceMeans>) {
+std::unique_ptr<Integrator> SurfaceReflection::create(const Scene& scene, const Sensor&, const RenderSettings&) {
     return std::make_unique<SurfaceReflection>(scene);
 }
 

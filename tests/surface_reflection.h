@@ -18,8 +18,7 @@ public:
     // What it declares: no fields or clearance; all three channels from one
     // ray; every sample the same. It takes every sensor (the default).
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const override;
     RGB LiRGB(Ray ray, ChannelSampling sampling, int hero, LabelMedium::Tracker& medium, Rng& rng,

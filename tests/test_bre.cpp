@@ -19,7 +19,7 @@ IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_
     RenderSettings s;
     s.integrator = "bre";
     s.seed = seed;
-    s.bre = options;
+    writeOptions(breParameters(), options, s.parameters);
     return test::renderIterations(scene, s, iterations);
 }
 

@@ -31,7 +31,7 @@ void expectBeerLambert(const std::function<Label(const Vec3i&)>& labelOf, const 
             s.spp = 192;
             s.channelSampling = sampling;
             s.majorants = majorants;
-            s.printpt.branches = 1;
+            s.parameters.set("branches", 1);
             Estimate e = test::renderMean(scene, sensor, s);
             for (int c = 0; c < 3; ++c) {
                 EXPECT_GT(e.standardError[c], 0.0f);

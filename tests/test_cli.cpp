@@ -482,10 +482,21 @@ TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
     }
 }
 
+// The render block's keys beyond its own are the estimator's: a key it
+// does not read is refused with the list of those it does, another
+// estimator's too.
 TEST(Cli, UnknownSceneKeysAreTypos) {
     TestScene s("typo");
+    s.scene["render"]["integrator"] = "volpath";
     s.scene["render"]["sps"] = 4;
-    expectCleanFailure(s, s.render(), "scene.json", "render.sps");
+    CliRun r = s.render();
+    expectCleanFailure(s, r, "scene.json", "render.sps");
+    EXPECT_NE(r.err.find("not an option of volpath (its options: max_depth, clearance_first)"), std::string::npos)
+        << r.err;
+    TestScene other("another_estimators_key");
+    other.scene["render"]["integrator"] = "volpath";
+    other.scene["render"]["branches"] = 2;
+    expectCleanFailure(other, other.render(), "scene.json", "render.branches");
 }
 
 TEST(Cli, MajorantsAreBricksOrAGlobalOne) {
@@ -901,13 +912,13 @@ TEST(Cli, BenchSelfVarianceAndConfigurationOverrides) {
     // Overrides are checked.
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/bogus=1", s.dir);
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.err.find("unknown key 'bogus'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("bogus: not an option of printpt (its options: branches,"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/rr_threshold=0", s.dir);
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.err.find("rr_threshold must be in (0, 1]"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("rr_threshold: must be in (0, 1]"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --configs printpt/k=0", s.dir);
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.err.find("branches must be a whole number"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("branches: must be a whole number"), std::string::npos) << r.err;
     r = printlight("bench " + scene.string() + " --self-variance --reference x.exr", s.dir);
     EXPECT_EQ(r.exitCode, 2);
 }

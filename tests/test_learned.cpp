@@ -153,7 +153,7 @@ TEST(Learned, WhiteHalfSpaceWithinItsBoundOnAnyThreads) {
     const SurfaceVoxelSensor sensor(*scene.geometry, scene.medium->frame(), centre);
     RenderSettings s;
     s.integrator = "learned";
-    s.learnedModel = modelFile();
+    s.parameters.setText("learned_model", modelFile().string());
     s.spp = 1;
     auto renderWith = [&](int threads) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));

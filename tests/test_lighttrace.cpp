@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "integrators/lighttrace/lighttrace.h"
 #include "media/slab_transport.h"
 #include "render_estimate.h"
 #include "test_util.h"
@@ -49,7 +50,7 @@ RenderResult renderPatches(const Scene& scene, const std::string& integrator, ui
     s.integrator = integrator;
     s.spp = spp;
     s.seed = seed;
-    s.lighttrace.particlesPerPixel = 4;
+    s.parameters.set("particles_per_pixel", 4);
     return render(scene, sensor, s);
 }
 
@@ -71,9 +72,9 @@ BlockwiseRender renderLightBlocks(const Scene& scene, uint32_t spp, uint64_t see
     RenderSettings s;
     s.integrator = "lighttrace";
     s.seed = seed;
-    s.lighttrace.particlesPerPixel = 4;
-    s.lighttrace.hybrid = hybrid;
-    s.lighttrace.scoring = scoring;
+    s.parameters.set("particles_per_pixel", 4);
+    s.parameters.set("lighttrace_hybrid", hybrid);
+    s.parameters.setText("lighttrace_scoring", enumName(kLightTraceScoringNames, scoring));
     const auto integrator = makeIntegrator(scene, sensor, s);
     BlockwiseRender b{RenderResult{Film(sensor.pixelCount())}, {}};
     const double n = double(sensor.pixelCount());
@@ -165,7 +166,7 @@ TEST(LightTrace, HybridAgreesWithVolpath) {
     SurfaceVoxelSensor sensor(*box.geometry, box.medium->frame(), box.medium->grid().surfaceVoxels(),
                               SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
-    LightTrace hybrid(box, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
+    LightTrace hybrid(box, sensor, LightTraceOptions{}, VolPathOptions{}, PrintPtOptions{}, s.majorants, s.seed);
     hybrid.preprocess(sensor, {0, 1, 2});
     for (int c = 0; c < 3; ++c) {
         EXPECT_GT(hybrid.cameraOnlyPixels(c), sensor.pixelCount() / 2) << c;
@@ -206,7 +207,8 @@ TEST(LightTrace, AgreesWithVolpathOnACurvedHalftone) {
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels(), SurfaceVoxelSensor::Footprint::Patch);
     RenderSettings s;
     s.integrator = "lighttrace";
-    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
+    const LightTrace probe(scene, sensor, readOptions(lightTraceParameters(), s.parameters), VolPathOptions{},
+                           PrintPtOptions{}, s.majorants, s.seed);
     EXPECT_GT(probe.cameraOnlyPixels(0), 0u);
     EXPECT_LT(probe.cameraOnlyPixels(0), sensor.pixelCount() / 4);
     expectAgreementWithVolpath(scene, "ball", true);
@@ -234,8 +236,8 @@ TEST(LightTrace, SlabAgainstTheDeterministicSolver) {
     RenderSettings s;
     s.integrator = "lighttrace";
     s.spp = 16;
-    s.lighttrace.particlesPerPixel = 300;
-    s.lighttrace.hybrid = false;  // the light side everywhere
+    s.parameters.set("particles_per_pixel", 300);
+    s.parameters.set("lighttrace_hybrid", false);  // the light side everywhere
     const RenderResult r = render(scene, sensor, s);
     const double specular = std::pow((kIor - 1.0) / (kIor + 1.0), 2);
     for (int c = 0; c < 3; ++c) {
@@ -343,8 +345,9 @@ TEST(LightTrace, LeavesEmptyPatchesToPrintPt) {
     RenderSettings s;
     s.integrator = "lighttrace";
     s.spp = 2;
-    s.lighttrace.hybrid = false;
-    const LightTrace probe(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed);
+    s.parameters.set("lighttrace_hybrid", false);
+    const LightTrace probe(scene, sensor, readOptions(lightTraceParameters(), s.parameters), VolPathOptions{},
+                           PrintPtOptions{}, s.majorants, s.seed);
     for (int c = 0; c < 3; ++c) EXPECT_GE(probe.cameraOnlyPixels(c), 4u);
     const RenderResult r = render(scene, sensor, s);
     for (size_t p = 0; p < r.film.pixelCount(); ++p)

@@ -1,18 +1,17 @@
 // Options declared once (core/option_table.h): every key of the render
-// block's own, volpath's, lighttrace's and printpt's tables is one render key of the scene file,
-// has its row in docs/scene-format.md, takes its own default without
-// complaint, and refuses a value out of its range with its text.
+// block's own table and of each registered estimator's is one render key
+// of the scene file, has its row in docs/scene-format.md, takes its own
+// default without complaint, and refuses a value out of its range with
+// its text.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <variant>
 
-#include "integrators/lighttrace/lighttrace.h"
-#include "integrators/printpt/printpt_options.h"
 #include "integrators/render_settings.h"
-#include "integrators/volpath/volpath.h"
 #include "render/registry.h"
 #include "test_util.h"
 
@@ -44,17 +43,53 @@ void expectDeclaredOnceAndDocumented(const std::vector<OptionParameter<Options>>
 
 TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
     const std::string doc = test::readText(test::sourceDir() / "docs/scene-format.md");
-    std::set<std::string> names;
-    expectDeclaredOnceAndDocumented(renderParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(volPathParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(lightTraceParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(printPtParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(breParameters(), names, doc);
-    expectDeclaredOnceAndDocumented(beamParameters(), names, doc);
-    // One render block: no key in two tables.
-    EXPECT_EQ(names.size(), renderParameters().size() + volPathParameters().size() + lightTraceParameters().size() +
-                                printPtParameters().size() + breParameters().size() +
-                                beamParameters().size());
+    std::set<std::string> renderNames;
+    expectDeclaredOnceAndDocumented(renderParameters(), renderNames, doc);
+    // Every estimator's keys, found through the registry: documented, and
+    // out of range refused by the driver's check with the key's own text.
+    std::map<std::string, std::string> docOf;
+    for (const IntegratorKind& kind : integratorKinds()) {
+        for (const ParameterInfo& p : kind.factory.parameters()) {
+            EXPECT_EQ(renderNames.count(p.name), 0u) << p.name << " is also the render block's own";
+            EXPECT_NE(doc.find("| `" + p.name + "` |"), std::string::npos) << p.name << " undocumented";
+            EXPECT_GT(p.doc.size(), 10u) << p.name;
+            // A key shared by estimators is one declaration (the same table).
+            auto [it, first] = docOf.emplace(p.name, p.doc);
+            EXPECT_TRUE(first || it->second == p.doc) << p.name << " declared twice";
+            auto refusal = [&](auto set) {
+                EstimatorParameters params;
+                set(params);
+                auto problem = checkParameters(kind.factory.parameters(), params, kind.name);
+                return problem ? problem->key + ": " + problem->what : std::string();
+            };
+            using Kind = ParameterInfo::Kind;
+            const std::string refused = p.name + ": " + p.rangeText;
+            if (p.kind == Kind::Integer || p.kind == Kind::Number) {
+                EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.set(p.name, p.max * 2 + 1); }), refused);
+                EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.set(p.name, p.min - 1); }), refused);
+                EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.set(p.name, p.max); }), "");
+            }
+            if (p.kind == Kind::Integer) EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.set(p.name, 0.5); }), refused);
+            if (p.kind == Kind::Name) {
+                EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.setText(p.name, "no_such_name"); }), refused);
+                for (const std::string& n : p.names)
+                    EXPECT_EQ(refusal([&](EstimatorParameters& e) { e.setText(p.name, n); }), "");
+            }
+            if (p.isText()) EXPECT_NE(refusal([&](EstimatorParameters& e) { e.set(p.name, 1); }), "") << p.name;
+        }
+        // A key the estimator does not read is refused with the list of those it does.
+        EstimatorParameters misspelt;
+        misspelt.set("no_such_option", 1);
+        auto problem = checkParameters(kind.factory.parameters(), misspelt, kind.name);
+        ASSERT_TRUE(problem) << kind.name;
+        EXPECT_EQ(problem->key, "no_such_option");
+        for (const ParameterInfo& p : kind.factory.parameters())
+            EXPECT_NE(problem->what.find(p.name), std::string::npos) << kind.name << ": " << problem->what;
+    }
+    // Every estimator with options is seen.
+    for (const char* name : {"max_depth", "branches", "particles_per_pixel", "lighttrace_scoring", "learned_model",
+                             "bre_alpha", "beams_alpha"})
+        EXPECT_EQ(docOf.count(name), 1u) << name;
 }
 
 // The architecture's diagram names every registered estimator on its

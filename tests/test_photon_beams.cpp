@@ -28,7 +28,7 @@ IterationMeans renderIterations(const Scene& scene, const char* integrator, uint
     RenderSettings s;
     s.integrator = integrator;
     s.seed = seed;
-    s.beams = options;
+    writeOptions(beamParameters(), options, s.parameters);
     return test::renderIterations(scene, s, iterations);
 }
 

@@ -3,6 +3,7 @@
 // error, with every switch on and off; and it must pass the white furnace.
 #include <gtest/gtest.h>
 
+#include "integrators/printpt/printpt.h"
 #include "render/render.h"
 #include "render_estimate.h"
 #include "test_util.h"
@@ -119,7 +120,7 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
         for (const Config& cfg : configs) {
             RenderSettings s = reference;
             s.integrator = "printpt";
-            s.printpt = cfg.options;
+            writeOptions(printPtParameters(), cfg.options, s.parameters);
             s.spp = 8;
             s.seed = 12;
             expectAgreement(volpath, renderMean(scene, sensor, s), std::string(cfg.name) + ", ior " + std::to_string(ior));
@@ -174,11 +175,11 @@ TEST(PrintPt, BallWalksAgreeWithVolpath) {
     s.integrator = "printpt";
     s.spp = 2;
     s.seed = 22;
-    s.printpt.ballMinMfp = 1.0f;  // balls wherever they fit
+    s.parameters.set("ball_min_mfp", 1.0f);  // balls wherever they fit
     RenderResult balls = render(scene, sensor, s);
     EXPECT_GT(balls.stats.ballEvents, balls.stats.scatterEvents / 20) << "ball walks must carry part of the load";
     expectAgreement(volpath, renderMean(scene, sensor, s), "ball walks");
-    s.printpt.ballWalks = false;
+    s.parameters.set("ball_walks", false);
     expectAgreement(volpath, renderMean(scene, sensor, s), "no ball walks");
 }
 
@@ -237,9 +238,9 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         s.integrator = "printpt";
         s.spp = 2;
         s.seed = 32;
-        s.printpt.controlVariate = true;
-        s.printpt.controlWalks = 1 << 16;
-        s.printpt.controlMeanWalksPerEntry = 0;  // every control, however few entries share it
+        s.parameters.set("control_variate", true);
+        s.parameters.set("control_walks", 1 << 16);
+        s.parameters.set("control_mean_walks_per_entry", 0);  // every control, however few entries share it
         const std::string what = shell ? "control variate, coloured shell" : "control variate, white";
         RenderResult with = render(scene, sensor, s);
         expectAgreement(volpath, test::meanOf(with), what);
@@ -248,7 +249,7 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         // only (no wedges at the edges): summed per-pixel variances.
         EXPECT_GT(with.stats.controlledWalks[int(ControlKind::Wedge)], 0u);
         EXPECT_GT(sharedErrorSum(with, 2), 0.0);
-        s.printpt.controlEdgeReach = 0.0f;
+        s.parameters.set("control_edge_reach", 0.0f);
         RenderResult halfSpaces = render(scene, sensor, s);
         expectAgreement(volpath, test::meanOf(halfSpaces), "control variate, half-spaces only");
         // A short probe (the walks part often) with the parted control's
@@ -256,14 +257,14 @@ TEST(PrintPt, ControlVariateAgreesWithVolpath) {
         // the remainder's variance falls (measured red/green/blue 0.71/0.77/0.70
         // of the summed variance with one continuation).
         RenderSettings parting = s;
-        parting.printpt.controlEdgeReach = 6.0f;
-        parting.printpt.controlProbe = 0.2f;
-        parting.printpt.controlContinuations = 1;
+        parting.parameters.set("control_edge_reach", 6.0f);
+        parting.parameters.set("control_probe", 0.2f);
+        parting.parameters.set("control_continuations", 1);
         RenderResult oneContinuation = render(scene, sensor, parting);
-        parting.printpt.controlContinuations = 4;
+        parting.parameters.set("control_continuations", 4);
         RenderResult fourContinuations = render(scene, sensor, parting);
         expectAgreement(volpath, test::meanOf(fourContinuations), "control variate, four continuations");
-        s.printpt.controlVariate = false;
+        s.parameters.set("control_variate", false);
         RenderResult without = render(scene, sensor, s);
         for (int c = 0; c < 3; ++c) {
             const double vWith = summedVariance(with, sensor, c), vHalf = summedVariance(halfSpaces, sensor, c),
@@ -345,32 +346,32 @@ TEST(PrintPt, ControlsTooFewEntriesShareAreLeftOut) {
     s.integrator = "printpt";
     s.spp = 1;
     s.seed = 9;
-    s.printpt.controlWalks = 1 << 12;
-    s.printpt.controlCurvedThickness = 1.0f;
+    s.parameters.set("control_walks", 1 << 12);
+    s.parameters.set("control_curved_thickness", 1.0f);
     auto costlyControls = [](const RenderResult& r) {
         return r.stats.controlledWalks[int(ControlKind::Wedge)] + r.stats.controlledWalks[int(ControlKind::Curved)];
     };
-    s.printpt.controlMeanWalksPerEntry = 0;
+    s.parameters.set("control_mean_walks_per_entry", 0);
     RenderResult all = render(scene, sensor, s);
     EXPECT_GT(costlyControls(all), 0u);
     EXPECT_GT(all.stats.controlledWalks[int(ControlKind::HalfSpace)], 0u);
     // One walk per entry: a curved control (1,024 walks) would need 1,024
     // entries; this sensor has ~1,000 pixels in all.
     ASSERT_LT(sensor.pixelCount(), 1024u);
-    s.printpt.controlMeanWalksPerEntry = 1;
+    s.parameters.set("control_mean_walks_per_entry", 1);
     RenderResult leftOut = render(scene, sensor, s);
     EXPECT_EQ(costlyControls(leftOut), 0u);
     EXPECT_EQ(leftOut.stats.controlledWalks[int(ControlKind::HalfSpace)],
               all.stats.controlledWalks[int(ControlKind::HalfSpace)]);
-    s.printpt.controlCurved = false;
-    s.printpt.controlEdgeReach = 0.0f;
+    s.parameters.set("control_curved", false);
+    s.parameters.set("control_edge_reach", 0.0f);
     RenderResult halfSpacesOnly = render(scene, sensor, s);
     for (size_t p = 0; p < sensor.pixelCount(); ++p)
         for (int c = 0; c < 3; ++c) ASSERT_EQ(leftOut.film.mean(p, c), halfSpacesOnly.film.mean(p, c)) << p;
     // The default keeps the controls that enough entries share.
-    s.printpt = PrintPtOptions{};
-    s.printpt.controlWalks = 1 << 12;
-    s.printpt.controlCurvedThickness = 1.0f;
+    s.parameters = EstimatorParameters{};
+    s.parameters.set("control_walks", 1 << 12);
+    s.parameters.set("control_curved_thickness", 1.0f);
     EXPECT_GT(costlyControls(render(scene, sensor, s)), 0u);
 }
 
@@ -424,12 +425,12 @@ TEST(PrintPt, SwitchesTheControlWalkCannotHonourTurnItOff) {
     RenderSettings s;
     s.integrator = "printpt";
     s.spp = 1;
-    s.printpt.controlWalks = 1 << 12;
+    s.parameters.set("control_walks", 1 << 12);
     EXPECT_GT(render(scene, sensor, s).stats.allControlledWalks(), 0u);
-    s.printpt.mediumFirst = false;
+    s.parameters.set("medium_first", false);
     EXPECT_EQ(render(scene, sensor, s).stats.allControlledWalks(), 0u);
-    s.printpt.mediumFirst = true;
-    s.printpt.fresnelWeighting = false;
+    s.parameters.set("medium_first", true);
+    s.parameters.set("fresnel_weighting", false);
     EXPECT_EQ(render(scene, sensor, s).stats.allControlledWalks(), 0u);
 }
 
@@ -451,12 +452,12 @@ TEST(PrintPt, CurvedControlAgreesWithVolpath) {
     s.integrator = "printpt";
     s.spp = 2;
     s.seed = 42;
-    s.printpt.controlWalks = 1 << 16;
-    s.printpt.controlMeanWalksPerEntry = 0;   // every control, however few entries share it
-    s.printpt.controlCurvedThickness = 1.0f;  // red's diffusion length is 1.75 mm: the default 2 would leave it out
+    s.parameters.set("control_walks", 1 << 16);
+    s.parameters.set("control_mean_walks_per_entry", 0);   // every control, however few entries share it
+    s.parameters.set("control_curved_thickness", 1.0f);  // red's diffusion length is 1.75 mm: the default 2 would leave it out
     RenderResult curved = render(scene, sensor, s);
     expectAgreement(volpath, test::meanOf(curved), "curved controls, white ball");
-    s.printpt.controlCurved = false;
+    s.parameters.set("control_curved", false);
     RenderResult flatOnly = render(scene, sensor, s);
     for (int c = 0; c < 2; ++c) {
         // Summed over about 2,400 pixels the variances are known to a few

@@ -228,8 +228,8 @@ TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
     // printpt's control variate (its walks share numbers with a half-space walk).
     settings.channelSampling = ChannelSampling::Separate;
     settings.integrator = "printpt";
-    settings.printpt.controlVariate = true;
-    settings.printpt.controlWalks = 4096;
+    settings.parameters.set("control_variate", 1);
+    settings.parameters.set("control_walks", 4096);
     settings.seed = 1234;
     RenderResult a = renderWith(1), b = renderWith(2);
     for (size_t p = 0; p < a.film.pixelCount(); ++p)

@@ -347,8 +347,7 @@ Diffusion::Diffusion(const Scene& scene, const Sensor& sensor) : SurfaceResponse
     coverElementsOverClearResin();
 }
 
-std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& sensor, const RenderSettings&,
-                                              std::shared_ptr<HalfSpaceMeans>) {
+std::unique_ptr<Integrator> Diffusion::create(const Scene& scene, const Sensor& sensor, const RenderSettings&) {
     return std::make_unique<Diffusion>(scene, sensor);
 }
 

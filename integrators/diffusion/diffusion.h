@@ -27,8 +27,7 @@ class Diffusion : public SurfaceResponse {
 public:
     Diffusion(const Scene& scene, const Sensor& sensor);
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("diffusion", settings); }
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     // Per surface element (the patches' pixels): the light that leaves
     // along the normal per unit light transmitted in, by single and by

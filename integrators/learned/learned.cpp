@@ -69,19 +69,31 @@ void describeSurface(const LabelDescriptor& descriptor, const SurfaceVoxelSensor
     }
 }
 
+namespace {
+std::filesystem::path modelFileOf(const EstimatorParameters& parameters) {
+    const std::string* file = parameters.text("learned_model");
+    return file ? std::filesystem::path(*file) : learnedModelBeside(parameters.materialsFile);
+}
+}  // namespace
+
+std::vector<ParameterInfo> Learned::parameters() {
+    ParameterInfo model{"learned_model", ParameterInfo::Kind::Path,
+                        "the learned predictor's model file; default: the one beside the material table"};
+    return {model};
+}
+
 std::string Learned::refusal(const RenderSettings& settings) {
     std::string why = refusalWithoutReentry("learned", settings);
     if (why.empty()) try {
-            loadLearnedModel(settings.learnedModel);
+            loadLearnedModel(modelFileOf(settings.parameters));
         } catch (const std::exception& e) {
             why = e.what();
         }
     return why;
 }
 
-std::unique_ptr<Integrator> Learned::create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                            std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<Learned>(scene, sensor, loadLearnedModel(settings.learnedModel));
+std::unique_ptr<Integrator> Learned::create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings) {
+    return std::make_unique<Learned>(scene, sensor, loadLearnedModel(modelFileOf(settings.parameters)));
 }
 
 Learned::Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const LearnedModel> model)

@@ -18,12 +18,13 @@ class Learned : public SurfaceResponse {
 public:
     // Throws InputError when the model was trained for other materials or voxels.
     Learned(const Scene& scene, const Sensor& sensor, std::shared_ptr<const LearnedModel> model);
-    // Its model is read up front (settings.learnedModel); whether it was
-    // trained for the scene's materials and voxels is known once the scene
-    // is loaded.
+    // learned_model: the model's file (io/learned_model_io.h), by default
+    // the one beside the scene's material table.
+    static std::vector<ParameterInfo> parameters();
+    // Its model is read up front; whether it was trained for the scene's
+    // materials and voxels is known once the scene is loaded.
     static std::string refusal(const RenderSettings& settings);
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 };
 
 // The descriptors of elements [begin, end) of a surface-voxel sensor with

@@ -71,15 +71,14 @@ float lineDepthFor_mm(const Scene& scene, const RGB& leastSigmaT) {
 }  // namespace
 
 LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
-                       PrintPtOptions printpt, Majorants majorants, uint64_t seed,
-                       std::shared_ptr<HalfSpaceMeans> controlMeans)
+                       PrintPtOptions printpt, Majorants majorants, uint64_t seed)
     : scene_(scene),
       sensor_(surfaceVoxelSensorOf(sensor)),
       patches_(*sensor_.patches()),
       options_(options),
       volpathOptions_(volpath),
       volpath_(scene, volpath, /*reentry=*/false),  // lighttrace refuses re-entry
-      printpt_(scene, printpt, seed, std::move(controlMeans)),
+      printpt_(scene, printpt, seed),
       majorants_(majorants),
       lightSeed_(mix64(seed ^ 0x6c69676874ULL)),
       entries_(*scene.geometry) {
@@ -103,18 +102,28 @@ LightTrace::LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptio
     decideEmissionShares();
 }
 
+std::vector<ParameterInfo> LightTrace::parameters() {
+    std::vector<ParameterInfo> all = describe(lightTraceParameters());
+    all.push_back(describeChoice("lighttrace_scoring", kLightTraceScoringNames,
+                                 "where particles score: at their collisions or along their tracks"));
+    for (const std::vector<ParameterInfo>& side : {describe(volPathParameters()), describe(printPtParameters())})
+        all.insert(all.end(), side.begin(), side.end());
+    return all;
+}
+
 IntegratorCapabilities LightTrace::capabilities(const RenderSettings& settings) {
     IntegratorCapabilities c;
-    c.needs = {settings.printpt.nee, true};
+    c.needs = {readOptions(printPtParameters(), settings.parameters).nee, true};
     c.lightPathsServeEveryPixel = true;
     c.sensors = kSurfaceVoxelPatchSensor;
     return c;
 }
 
-std::unique_ptr<Integrator> LightTrace::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
-                                               std::shared_ptr<HalfSpaceMeans> controlMeans) {
-    return std::make_unique<LightTrace>(scene, sensor, s.lighttrace, s.volpath, s.printpt, s.majorants, s.seed,
-                                        std::move(controlMeans));
+std::unique_ptr<Integrator> LightTrace::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
+    LightTraceOptions options = readOptions(lightTraceParameters(), s.parameters);
+    options.scoring = readChoice("lighttrace_scoring", kLightTraceScoringNames, s.parameters, options.scoring);
+    return std::make_unique<LightTrace>(scene, sensor, options, readOptions(volPathParameters(), s.parameters),
+                                        readOptions(printPtParameters(), s.parameters), s.majorants, s.seed);
 }
 
 void LightTrace::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {

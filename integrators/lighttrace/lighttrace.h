@@ -58,7 +58,7 @@ struct LightTraceOptions {
 inline constexpr std::array<EnumName<LightTraceOptions::Scoring>, 2> kLightTraceScoringNames{
     {{LightTraceOptions::Scoring::Collisions, "collisions"}, {LightTraceOptions::Scoring::Tracks, "tracks"}}};
 // Its numeric and boolean options by their scene-file names
-// (core/option_table.h; lighttrace_scoring is a name, render/scene_io).
+// (core/option_table.h; lighttrace_scoring is a name, LightTrace::parameters).
 const std::vector<OptionParameter<LightTraceOptions>>& lightTraceParameters();
 
 // One block of light paths' scores per pixel. The block's particles are
@@ -81,17 +81,17 @@ public:
     // The sensor must be the surface-voxel sensor with the patch footprint
     // (std::invalid_argument otherwise).
     // printpt: the camera estimator of the pixels the light side leaves
-    // out (controlMeans as for PrintPt).
+    // out.
     LightTrace(const Scene& scene, const Sensor& sensor, LightTraceOptions options, VolPathOptions volpath,
-               PrintPtOptions printpt, Majorants majorants, uint64_t seed,
-               std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+               PrintPtOptions printpt, Majorants majorants, uint64_t seed);
 
     // Light paths serve every pixel; particles walk one channel (separate
     // passes); the patches of a surface-voxel sensor only.
+    // Its own keys, and volpath's and printpt's for its camera side.
+    static std::vector<ParameterInfo> parameters();
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("lighttrace", settings); }
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     // printpt's census, then (hybrid) the pixels whose walks run with a
     // control go to printpt.

@@ -8,9 +8,8 @@
 
 namespace pl {
 
-std::unique_ptr<Integrator> Bb1d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
-                                         std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<Bb1d>(scene, sensor, s.beams, s.majorants, s.seed);
+std::unique_ptr<Integrator> Bb1d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
+    return std::make_unique<Bb1d>(scene, sensor, readOptions(beamParameters(), s.parameters), s.majorants, s.seed);
 }
 
 namespace {

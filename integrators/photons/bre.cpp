@@ -68,9 +68,8 @@ IntegratorCapabilities Bre::capabilities(const RenderSettings&) {
     return c;
 }
 
-std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
-                                        std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<Bre>(scene, sensor, s.bre, s.majorants, s.seed);
+std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
+    return std::make_unique<Bre>(scene, sensor, readOptions(breParameters(), s.parameters), s.majorants, s.seed);
 }
 
 float Bre::radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }

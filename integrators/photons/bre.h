@@ -80,10 +80,10 @@ class Bre : public Integrator {
 public:
     Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed);
 
+    static std::vector<ParameterInfo> parameters() { return describe(breParameters()); }
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("bre", settings); }
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     // Sample by sample, the iteration's photons, then every pixel's query.
     void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const override;

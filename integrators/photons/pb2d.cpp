@@ -6,9 +6,8 @@
 
 namespace pl {
 
-std::unique_ptr<Integrator> Pb2d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s,
-                                         std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<Pb2d>(scene, sensor, s.beams, s.majorants, s.seed);
+std::unique_ptr<Integrator> Pb2d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
+    return std::make_unique<Pb2d>(scene, sensor, readOptions(beamParameters(), s.parameters), s.majorants, s.seed);
 }
 
 float Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

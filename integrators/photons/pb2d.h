@@ -20,8 +20,7 @@ public:
         : PhotonBeamEstimator(scene, sensor, options, 2, majorants, seed) {}
 
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("pb2d", settings); }
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     float Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
              PathStats& stats) const override;

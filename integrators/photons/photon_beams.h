@@ -104,6 +104,7 @@ public:
     PhotonBeamEstimator(const Scene& scene, const Sensor& sensor, BeamOptions options, int kernelDimensions,
                         Majorants majorants, uint64_t seed);
 
+    static std::vector<ParameterInfo> parameters() { return describe(beamParameters()); }
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
 
     // Sample by sample, the iteration's beams, then every pixel's walk.

@@ -11,12 +11,10 @@
 
 namespace pl {
 
-ControlVariate::ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed,
-                               std::shared_ptr<HalfSpaceMeans> monteCarloMeans)
+ControlVariate::ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed)
     : scene_(scene),
       options_(options),
-      seed_(seed),
-      monteCarloMeans_(monteCarloMeans ? std::move(monteCarloMeans) : std::make_shared<HalfSpaceMeans>()) {
+      seed_(seed) {
     const size_t controls = key(3, 0, 0);
     means_.reset(new std::atomic<float>[controls]);
     meanErrors_.reset(new std::atomic<float>[controls]);
@@ -79,7 +77,7 @@ ControlVariate::ControlMean ControlVariate::meanOf(int channel, Label label, con
         }
         HalfSpaceMean estimate;
         tbb::this_task_arena::isolate([&] {
-            estimate = monteCarloMeans_->get(hs, {options_.rrThreshold, options_.rrCap},
+            estimate = HalfSpaceMeans::ofProcess().get(hs, {options_.rrThreshold, options_.rrCap},
                                              std::max(1.0f, options_.ballMinMfp), meanWalks(shape), seed);
         });
         m = {float(estimate.mean), float(estimate.standardError)};

@@ -51,10 +51,9 @@ class Sensor;
 class ControlVariate {
 public:
     // seed: the render's, which seeds the Monte Carlo means; those are kept
-    // in monteCarloMeans (a cache the caller may share between integrators
-    // of the same materials; none: this control's own).
-    ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed,
-                   std::shared_ptr<HalfSpaceMeans> monteCarloMeans = nullptr);
+    // for the life of the process (HalfSpaceMeans::ofProcess: the
+    // prediction API's iterations share them).
+    ControlVariate(const Scene& scene, const PrintPtOptions& options, uint64_t seed);
 
     // The control of the branches entering along `inside`: its region, its
     // mean and the mean's standard error (per unit environment radiance
@@ -127,7 +126,6 @@ private:
     const Scene& scene_;
     PrintPtOptions options_;
     uint64_t seed_;
-    std::shared_ptr<HalfSpaceMeans> monteCarloMeans_;
     // The decision for the last entry each thread saw (forEntry): the
     // surface-voxel sensor repeats a pixel's ray for every sample.
     struct LastEntry {

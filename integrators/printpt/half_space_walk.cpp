@@ -145,6 +145,11 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
     return {mean, std::sqrt(variance / n)};
 }
 
+HalfSpaceMeans& HalfSpaceMeans::ofProcess() {
+    static HalfSpaceMeans means;
+    return means;
+}
+
 HalfSpaceMean HalfSpaceMeans::get(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                                   uint64_t seed) {
     const float side_mm = hs.hasSide ? dot(hs.sideOrigin - hs.origin, hs.sideNormal) : -1.0f;

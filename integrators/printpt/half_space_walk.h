@@ -150,12 +150,15 @@ struct HalfSpaceMean {
 HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp,
                                     int64_t walks, uint64_t seed);
 // Means of control regions, each estimated once and kept for the life of
-// this object (an integrator's, or a caller's that renders the same
-// materials many times: the predictor's iterations). Thread-safe: a
-// second thread asking for a mean being estimated waits for it, and
-// different means are estimated side by side.
+// this object. Each mean is a function of its key alone (the region, the
+// walk's rules, the walks and the seed), so one cache serves the process
+// (ofProcess): renders of the same materials, the prediction API's
+// iterations among them, estimate each once. Thread-safe: a second thread
+// asking for a mean being estimated waits for it, and different means are
+// estimated side by side.
 class HalfSpaceMeans {
 public:
+    static HalfSpaceMeans& ofProcess();
     HalfSpaceMean get(const HalfSpace& hs, const RouletteRule& roulette, float ballMinMfp, int64_t walks,
                       uint64_t seed);
 

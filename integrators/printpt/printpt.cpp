@@ -12,14 +12,14 @@ namespace pl {
 
 IntegratorCapabilities PrintPt::capabilities(const RenderSettings& settings) {
     IntegratorCapabilities c;
-    c.needs = {settings.printpt.nee, settings.printpt.clearance || settings.printpt.ballWalks};
-    c.threeChannelsInOnePath = !settings.printpt.nee;
+    const PrintPtOptions options = readOptions(printPtParameters(), settings.parameters);
+    c.needs = {options.nee, options.clearance || options.ballWalks};
+    c.threeChannelsInOnePath = !options.nee;
     return c;
 }
 
-std::unique_ptr<Integrator> PrintPt::create(const Scene& scene, const Sensor&, const RenderSettings& settings,
-                                            std::shared_ptr<HalfSpaceMeans> controlMeans) {
-    return std::make_unique<PrintPt>(scene, settings.printpt, settings.seed, std::move(controlMeans));
+std::unique_ptr<Integrator> PrintPt::create(const Scene& scene, const Sensor&, const RenderSettings& settings) {
+    return std::make_unique<PrintPt>(scene, readOptions(printPtParameters(), settings.parameters), settings.seed);
 }
 
 ChannelSample PrintPt::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
@@ -123,9 +123,8 @@ PrintPtOptions forScene(PrintPtOptions options, const Scene& scene) {
 
 }  // namespace
 
-PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
-                 std::shared_ptr<HalfSpaceMeans> controlMeans)
-    : scene_(scene), options_(forScene(options, scene)), control_(scene, options_, seed, std::move(controlMeans)) {
+PrintPt::PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed)
+    : scene_(scene), options_(forScene(options, scene)), control_(scene, options_, seed) {
     // The walk is compiled once per combination of the switches it tests
     // in its loop; the scene picks one here and the loop pays for no branch.
     walkSingle_ = selectWalk<SingleChannelPath>();

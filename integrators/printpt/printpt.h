@@ -53,14 +53,12 @@ class PrintPt : public PixelIntegrator {
 public:
     // Next-event estimation needs the surface fields and keeps separate
     // passes (it is single-channel); clearance and ball walks the clearance.
+    static std::vector<ParameterInfo> parameters() { return describe(printPtParameters()); }
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("printpt", settings); }
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
-    // seed: the render's, which seeds the Monte Carlo control means;
-    // controlMeans: where they are kept (ControlVariate; none: its own).
-    PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed,
-            std::shared_ptr<HalfSpaceMeans> controlMeans = nullptr);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
+    // seed: the render's, which seeds the Monte Carlo control means.
+    PrintPt(const Scene& scene, PrintPtOptions options, uint64_t seed);
 
     ChannelSample Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                      PathStats& stats) const override;

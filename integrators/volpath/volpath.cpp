@@ -10,21 +10,22 @@ const std::vector<OptionParameter<VolPathOptions>>& volPathParameters() {
     static const std::vector<OptionParameter<O>> parameters = {
         {"max_depth", &O::maxDepth, -1e9, 1e9, false, "must be a whole number in -1e9..1e9",
          "scattering events per path; negative: unlimited"},
+        {"clearance_first", &O::clearanceFirst, 0, 0, false, "",
+         "flights look for the clearance before the boundary (false: every flight starts with a boundary query)"},
     };
     return parameters;
 }
 
 IntegratorCapabilities VolPath::capabilities(const RenderSettings& settings) {
     IntegratorCapabilities c;
-    c.needs = {false, settings.volpath.clearanceFirst};
+    c.needs = {false, readOptions(volPathParameters(), settings.parameters).clearanceFirst};
     c.threeChannelsInOnePath = true;
     c.recordsFootprints = true;
     return c;
 }
 
-std::unique_ptr<Integrator> VolPath::create(const Scene& scene, const Sensor&, const RenderSettings& settings,
-                                            std::shared_ptr<HalfSpaceMeans>) {
-    return std::make_unique<VolPath>(scene, settings.volpath, settings.reentry);
+std::unique_ptr<Integrator> VolPath::create(const Scene& scene, const Sensor&, const RenderSettings& settings) {
+    return std::make_unique<VolPath>(scene, readOptions(volPathParameters(), settings.parameters), settings.reentry);
 }
 
 ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rng& rng,

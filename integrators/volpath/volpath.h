@@ -17,9 +17,9 @@ const std::vector<OptionParameter<VolPathOptions>>& volPathParameters();
 class VolPath : public PixelIntegrator {
 public:
     // Three channels from one path; the clearance if flights look for it first.
+    static std::vector<ParameterInfo> parameters() { return describe(volPathParameters()); }
     static IntegratorCapabilities capabilities(const RenderSettings& settings);
-    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings,
-                                              std::shared_ptr<HalfSpaceMeans> controlMeans);
+    static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
     // reentry: trace light that leaves the object back against it.
     VolPath(const Scene& scene, VolPathOptions options, bool reentry)
         : scene_(scene), options_(options), reentry_(reentry) {}
