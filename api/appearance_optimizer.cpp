@@ -189,7 +189,7 @@ OptimizeJudgement judgePrint(Predictor& predictor, const OptimizeSettings& setti
     const auto t0 = std::chrono::steady_clock::now();
     const bool fixed = settings.judgeSpp > 0;
     const uint32_t mostPerHalf = std::max(1u, (fixed ? settings.judgeSpp : settings.judgeMostSpp) / 2);
-    predictor.settings().integrator = integrator;
+    setIntegrator(predictor.settings(), integrator);
     predictor.carryOver().enabled = false;  // independent renders
     std::optional<FootprintSample> sample;
     std::vector<RGB> mappedSampled, flatSampled;
@@ -529,7 +529,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const std::string monteCarlo = predictor.settings().integrator;
     const bool fastFirst =
         !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo && settings.maxIterations > 0;
-    if (fastFirst) predictor.settings().integrator = settings.fastPredictor;
+    if (fastFirst) setIntegrator(predictor.settings(), settings.fastPredictor);
     auto t0 = Clock::now();
     SurfacePrediction p = predictor.predict();
     const size_t n = p.voxels.size();
@@ -606,7 +606,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // A new seed each iteration: the loop must not fit one noise
         // realisation. Carrying over, new samples of the same seed.
         if (!oneSeed) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
-        if (next.switchToMonteCarlo) predictor.settings().integrator = monteCarlo;
+        if (next.switchToMonteCarlo) setIntegrator(predictor.settings(), monteCarlo);
         if (next.moreSpp > 0) {
             predictor.settings().spp = next.moreSpp;
             raisedAt = iteration;

@@ -94,7 +94,7 @@ PrinterGamut characterisePrinter(const MaterialTable& materials, const Character
     };
 
     RenderSettings rs;
-    rs.integrator = settings.integrator;
+    setIntegrator(rs, settings.integrator);
     rs.spp = settings.spp;
     rs.seed = settings.seed;
     const SceneNeeds needs = sceneNeedsOf(rs);

@@ -21,7 +21,7 @@ namespace pl {
 
 struct CharacterisationSettings {
     int levels = 8;                                 // grid step 1/levels on the mixing simplex
-    Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};      // the printer's voxel
+    Vec3f voxel_mm = kPrinterVoxel_mm;      // the printer's voxel
     float shellDepth_mm = 1.0f;                     // as prepare and optimize colour the object
     float cube_mm = 6.0f;
     float measuredSquare_mm = 2.0f;                 // the centre of each face that is measured

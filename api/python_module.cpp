@@ -93,7 +93,7 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
                  const std::string& halftone, std::optional<std::string> units) {
     if (std::filesystem::path(output).extension() != ".vdb") throw std::invalid_argument("output must be a .vdb file");
     const std::optional<HalftoneMethod> method = parseEnum(kHalftoneMethodNames, halftone);
-    if (!method) throw std::invalid_argument("halftone must be error-diffusion, thresholds or nearest");
+    if (!method) throw std::invalid_argument("halftone must be " + enumNames(kHalftoneMethodNames));
     MeshPlacement placement;
     if (units) {
         placement.unit = parseLengthUnit(*units);
@@ -119,6 +119,10 @@ py::dict prepare(const std::string& model, const std::string& output, std::array
     d["color_source"] = prepared.colorSource;
     return d;
 }
+
+// The defaults the keyword arguments show: the library's own.
+const AdaptiveSampling kAdaptive{};
+const PrepareSettings kPrepare{};
 
 }  // namespace
 }  // namespace pl
@@ -156,7 +160,7 @@ PYBIND11_MODULE(printlight, m) {
                       [](Predictor& p, const std::string& v) {
                           if (!findIntegratorKind(v))
                               throw std::invalid_argument("integrator must be " + integratorNames());
-                          p.settings().integrator = v;
+                          setIntegrator(p.settings(), v);
                       })
         .def_property("channels", [](Predictor& p) { return channelNames(p.settings().channels); },
                       [](Predictor& p, const std::string& v) {
@@ -176,13 +180,16 @@ PYBIND11_MODULE(printlight, m) {
                 uint32_t maxSpp, double maxSeconds) {
                  p.adaptive() = {true, maxStandardError, maxRelativeError, firstRoundSpp, roundSpp, maxSpp, maxSeconds};
              },
-             py::arg("max_standard_error") = 0.0f, py::arg("max_relative_error") = 0.0f, py::arg("first_round_spp") = 8,
-             py::arg("round_spp") = 8, py::arg("max_spp") = 1024, py::arg("max_seconds") = 0.0,
+             py::arg("max_standard_error") = kAdaptive.maxStandardError,
+             py::arg("max_relative_error") = kAdaptive.maxRelativeError,
+             py::arg("first_round_spp") = kAdaptive.firstRoundSpp, py::arg("round_spp") = kAdaptive.roundSpp,
+             py::arg("max_spp") = kAdaptive.maxSpp, py::arg("max_seconds") = kAdaptive.maxSeconds,
              "Adaptive sampling: render until every voxel's standard error meets the target (see docs/api.md).")
         .def("adaptive_off", [](Predictor& p) { p.adaptive().enabled = false; });
     m.def("prepare", &prepare, py::arg("model"), py::arg("output"),
-          py::arg("voxel_mm") = std::array<float, 3>{0.0423f, 0.0847f, 0.027f}, py::arg("extrude_mm") = 1.0f,
-          py::arg("margin_mm") = 0.12f, py::arg("color") = py::none(), py::arg("halftone") = "error-diffusion",
+          py::arg("voxel_mm") = std::array<float, 3>{kPrinterVoxel_mm.x, kPrinterVoxel_mm.y, kPrinterVoxel_mm.z},
+          py::arg("extrude_mm") = kPrepare.extrude_mm, py::arg("margin_mm") = kPrepare.margin_mm,
+          py::arg("color") = py::none(), py::arg("halftone") = enumName(kHalftoneMethodNames, kPrepare.halftone),
           py::arg("units") = py::none(),
           "Voxelises and halftones a closed, textured mesh (.gltf, .glb, .obj) into a prepared .vdb, as "
           "`printlight prepare` does; units: 'm', 'mm' or 'in' (default: glTF's metres, OBJ's millimetres); "

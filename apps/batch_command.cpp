@@ -39,7 +39,7 @@ SceneDescription describeJob(const BatchJob& job, uint64_t seedOffset) {
     SceneDescription desc = parseScene(job.sceneFile);
     desc.render.spp = job.spp;
     desc.render.seed = job.seed + seedOffset;
-    if (job.integrator) desc.render.integrator = *job.integrator;
+    if (job.integrator) setIntegrator(desc.render, *job.integrator);
     if (job.channels) desc.render.channels = *job.channels;
     if (std::string why = refusalOf(desc.render); !why.empty())
         throw InputError(job.sceneFile.string(), why);

@@ -52,16 +52,25 @@ inline std::optional<RenderingIntent> intentOption(const Arguments& args) {
 // Sets the estimator an option names, or says why it cannot run.
 inline void chooseIntegrator(RenderSettings& r, const std::string& name, const std::string& option) {
     if (!findIntegratorKind(name)) throw UsageError(option + " must be " + integratorNames());
-    r.integrator = name;
+    if (name != r.integrator) setIntegrator(r, name);
     if (std::string why = refusalOf(r); !why.empty()) throw UsageError(why);
     if (capabilitiesOf(r).deterministic) r.spp = 1;
+}
+
+// A render-block option from the command line, checked by the scene file
+// key's own table entry (integrators/render_settings.cpp): one range.
+inline void applyRenderOption(const Arguments& args, const char* option, const char* key, RenderSettings& r) {
+    const std::optional<double> value = args.number(option);
+    if (!value) return;
+    if (std::string problem = setOption(renderParameters(), r, key, *value); !problem.empty())
+        throw UsageError(std::string(option) + " " + problem);
 }
 
 // Applies those of the render overrides the command line holds (a command
 // that does not accept one never has it).
 inline void applyRenderOptions(const Arguments& args, RenderSettings& r) {
-    if (auto spp = args.integer("--spp", 1, RenderSettings::kMostSpp)) r.spp = uint32_t(*spp);
-    if (auto seed = args.integer("--seed", 0, INT64_MAX)) r.seed = uint64_t(*seed);
+    applyRenderOption(args, "--spp", "spp", r);
+    applyRenderOption(args, "--seed", "seed", r);
     if (auto ch = args.value("--channel")) {
         auto channels = parseChannels(*ch);
         if (!channels) throw UsageError("--channel must be r, g, b or rgb");

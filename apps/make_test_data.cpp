@@ -170,7 +170,7 @@ Texture spotsTexture() {
 // voxel centres inside [0, 10]^3 mm, two void voxels around.
 LabelGrid clearBlock() {
     constexpr Label kVoid = kVoidLabel, kWhite = kWhiteLabel, kClear = kClearLabel;
-    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};
+    const Vec3f voxel_mm = kPrinterVoxel_mm;
     const float size_mm = 10.0f;
     GridFrame frame;
     for (int a = 0; a < 3; ++a) frame.resolution[a] = int(std::ceil(size_mm / voxel_mm[a])) + 4;
@@ -297,7 +297,7 @@ const Mixture* mixtureAt(const Point3f& c, float depth, const std::vector<Layer>
 
 void writeTrainingVolume(uint64_t seed, int index, const std::filesystem::path& dir) {
     Rng rng(seed, uint64_t(index));
-    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // the printer's (prepare's) voxels
+    const Vec3f voxel_mm = kPrinterVoxel_mm;  // prepare's voxels
     Vec3f size_mm;
     for (int a = 0; a < 3; ++a) size_mm[a] = 1.5f + 10.5f * rng.uniform() * rng.uniform();
     if (rng.uniform() < 0.25f) size_mm[int(rng.next32() % 3)] = 0.6f + 0.9f * rng.uniform();  // a thin plate

@@ -51,13 +51,8 @@ std::string controlSummary(const RenderResult& r) {
 SceneDescription describeRender(const Arguments& args) {
     SceneDescription desc = parseScene(args.positional()[0]);
     applyRenderOptions(args, desc.render);
-    auto positiveNumber = [&](const char* option) {
-        const std::optional<double> x = args.number(option);
-        if (x && !(*x > 0 && std::isfinite(*x))) throw UsageError(std::string(option) + " takes a positive number");
-        return x;
-    };
-    if (auto t = positiveNumber("--time")) desc.render.timeBudget_s = *t;
-    if (auto e = positiveNumber("--target-error")) desc.render.targetRelativeError = *e;
+    applyRenderOption(args, "--time", "time_budget_s", desc.render);
+    applyRenderOption(args, "--target-error", "target_relative_error", desc.render);
     if ((args.has("--time") || args.has("--target-error")) && !args.has("--spp"))
         desc.render.spp = uint32_t(RenderSettings::kMostSpp);  // the budget or the target decides
     if (auto o = args.value("-o")) desc.output = *o;

@@ -67,7 +67,7 @@ int stabilityCommand(const std::vector<std::string>& argv) {
                     {"--quick", "", "a shorter suite"}});
     if (!args.positional().empty()) throw UsageError("stability takes no positional arguments");
     bool quick = args.has("--quick");
-    uint64_t seed = uint64_t(args.integer("--seed", 0, INT64_MAX).value_or(1));
+    uint64_t seed = uint64_t(args.integer("--seed", 0, RenderSettings::kMostSeed).value_or(1));
     ThreadLimit threads(args);
     auto t0 = std::chrono::steady_clock::now();
     std::vector<StabilityRow> rows = runStabilitySuite(quick, seed, [](const StabilityRow& r) {

@@ -10,6 +10,11 @@ const ParameterInfo* findParameter(const std::vector<ParameterInfo>& infos, cons
     return it == infos.end() ? nullptr : &*it;
 }
 
+void EstimatorParameters::keepOnly(const std::vector<ParameterInfo>& infos) {
+    for (auto it = numbers_.begin(); it != numbers_.end();) it = findParameter(infos, it->first) ? std::next(it) : numbers_.erase(it);
+    for (auto it = texts_.begin(); it != texts_.end();) it = findParameter(infos, it->first) ? std::next(it) : texts_.erase(it);
+}
+
 namespace {
 
 // As setOption (core/option_table.h) checks a value.

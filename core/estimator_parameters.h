@@ -33,6 +33,8 @@ class EstimatorParameters {
         auto it = texts_.find(name);
         return it == texts_.end() ? nullptr : &it->second;
     }
+    // Drops the keys `infos` does not name (another estimator's).
+    void keepOnly(const std::vector<struct ParameterInfo>& infos);
     bool operator==(const EstimatorParameters& o) const {
         return numbers_ == o.numbers_ && texts_ == o.texts_ && materialsFile == o.materialsFile;
     }

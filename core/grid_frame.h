@@ -11,6 +11,9 @@
 
 namespace pl {
 
+// The printer's voxel: 600 x 300 dpi across the build plate, 27 um layers.
+inline constexpr Vec3f kPrinterVoxel_mm{0.0423f, 0.0847f, 0.027f};
+
 // Placement of the voxel lattice: voxels [indexMin, indexMin + resolution).
 struct GridFrame {
     Vec3i indexMin{0, 0, 0};

@@ -11,7 +11,7 @@ const std::vector<OptionParameter<RenderSettings>>& renderParameters() {
          "stop at this wall time (progressive rounds); 0: none"},
         {"target_relative_error", &R::targetRelativeError, 0, 10, false, "must be in [0, 10]",
          "stop at this median per-pixel relative standard error; 0: none"},
-        {"seed", &R::seed, 0, 9007199254740992.0, false, "must be a whole number in 0..2^53",
+        {"seed", &R::seed, 0, double(R::kMostSeed), false, "must be a whole number in 0..2^53",
          "seed of the random streams, each path's keyed by (seed, pixel, sample, channel)"},
         {"reentry", &R::reentry, 0, 0, false, "", "trace light that leaves the object back against it"},
     };

@@ -19,6 +19,8 @@ namespace pl {
 struct RenderSettings {
     std::string integrator = "volpath";  // a name of integratorKinds() (render/registry.h)
     static constexpr int64_t kMostSpp = int64_t(1) << 24;
+    // Seeds are whole numbers up to 2^53, exact in a JSON number (a double).
+    static constexpr int64_t kMostSeed = int64_t(1) << 53;
     uint32_t spp = 16;           // with a time budget or a target error: the most
     double timeBudget_s = 0;     // > 0: stop at this wall time (render/progressive_render.h)
     double targetRelativeError = 0;  // > 0: stop at this median per-pixel relative error

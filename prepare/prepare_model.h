@@ -24,7 +24,7 @@
 namespace pl {
 
 struct PrepareSettings {
-    Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // 600 x 300 dpi, 27 um layers
+    Vec3f voxel_mm = kPrinterVoxel_mm;
     float margin_mm = 0.12f;                   // void padding around the mesh
     float extrude_mm = 1.0f;                   // depth of the colour shell
     HalftoneMethod halftone = HalftoneMethod::ErrorDiffusion;

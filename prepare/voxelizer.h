@@ -21,7 +21,7 @@
 namespace pl {
 
 struct VoxelizeSettings {
-    Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};  // 600 x 300 dpi, 27 um layers
+    Vec3f voxel_mm = kPrinterVoxel_mm;
     float margin_mm = 0.12f;                   // void padding around the mesh (Brecka 3.1)
     float band_mm = 1.2f;                      // half-width of the distance band
 };

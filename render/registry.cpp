@@ -49,6 +49,11 @@ const IntegratorKind& integratorKindOf(const RenderSettings& settings) {
     return *kind;
 }
 
+void setIntegrator(RenderSettings& settings, const std::string& name) {
+    settings.integrator = name;
+    settings.parameters.keepOnly(integratorKindOf(settings).factory.parameters());
+}
+
 std::string refusalOf(const RenderSettings& settings) {
     const IntegratorKind& kind = integratorKindOf(settings);
     if (auto problem = checkParameters(kind.factory.parameters(), settings.parameters, kind.name))

@@ -46,6 +46,9 @@ void registerIntegrator(const IntegratorKind& kind);
 const IntegratorKind* findIntegratorKind(const std::string& name);
 // The settings' kind (settings.integrator must name one).
 const IntegratorKind& integratorKindOf(const RenderSettings& settings);
+// Names the estimator of these settings (one of integratorKinds()): the
+// parameters it does not read, another estimator's, are dropped.
+void setIntegrator(RenderSettings& settings, const std::string& name);
 // "volpath, printpt or lighttrace": for messages about a name that is none of them.
 std::string integratorNames();
 // What the settings' integrator declares for them.

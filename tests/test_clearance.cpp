@@ -18,7 +18,7 @@ TEST(SurfaceClearance, IsALowerBoundOfTheDistanceToTheBoundary) {
     GridFrame frame;
     frame.indexMin = {-7, 3, 11};
     frame.resolution = {61, 45, 83};
-    frame.voxelSize_mm = {0.0423f, 0.0847f, 0.027f};
+    frame.voxelSize_mm = kPrinterVoxel_mm;
     frame.cornerMin_mm = {12.5f, -3.0f, 40.0f};
     Point3f hi = frame.cornerMax_mm();
     Point3f lo = frame.cornerMin_mm + Vec3f(0.3f, 0.0f, 0.2f);

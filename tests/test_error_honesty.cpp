@@ -23,7 +23,7 @@ namespace {
 // white core: stripes of cyan, magenta, yellow and black, each dithered
 // against white, so that bright and dark voxels lie side by side.
 Scene halftonedBox() {
-    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};
+    const Vec3f voxel_mm = kPrinterVoxel_mm;
     const Vec3i resolution{36, 18, 56};
     auto labelOf = [&](const Vec3i& v) {
         const float x = (float(v.x) + 0.5f) * voxel_mm.x, y = (float(v.y) + 0.5f) * voxel_mm.y,

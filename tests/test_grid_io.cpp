@@ -20,7 +20,7 @@ LabelGrid randomGrid() {
     Rng rng(17, 3);
     GridFrame f;
     f.resolution = {37, 21, 50};
-    f.voxelSize_mm = {0.0423f, 0.0847f, 0.027f};
+    f.voxelSize_mm = kPrinterVoxel_mm;
     f.cornerMin_mm = {-1.5f, 2.25f, 0.5f};
     std::vector<Label> labels(f.voxelCount());
     for (size_t i = 0; i < labels.size(); ++i) {

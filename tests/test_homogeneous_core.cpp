@@ -20,7 +20,7 @@ TEST(HomogeneousCore, RelabelsExactlyTheDeepVoxels) {
     // A box of anisotropic printer voxels: a dithered shell of cyan and
     // black over a core that is mostly white with black specks.
     const Vec3i resolution{60, 30, 90};
-    const Vec3f voxel_mm{0.0423f, 0.0847f, 0.027f};
+    const Vec3f voxel_mm = kPrinterVoxel_mm;
     const Point3f corner{1.0f, -2.0f, 0.5f};
     auto depthOf = [&](const Vec3i& v) {
         float d = 1e9f;

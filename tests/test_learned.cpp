@@ -25,7 +25,6 @@ namespace {
 using test::material;
 
 constexpr float kIor = 1.5f;
-const Vec3f kPrinterVoxel_mm{0.0423f, 0.0847f, 0.027f};
 
 std::filesystem::path materialsFile() { return test::sourceDir() / "data/materials/resins_illustrative.json"; }
 std::filesystem::path modelFile() { return learnedModelBeside(materialsFile()); }

@@ -92,6 +92,26 @@ TEST(OptionTables, EveryOptionIsDeclaredOnceAndDocumented) {
         EXPECT_EQ(docOf.count(name), 1u) << name;
 }
 
+// Another estimator named for the same settings keeps the keys it reads
+// and drops the others' (a lighttrace scene rendered by volpath).
+TEST(OptionTables, AnotherEstimatorKeepsOnlyItsOwnKeys) {
+    RenderSettings s;
+    s.integrator = "lighttrace";
+    s.parameters.set("particles_per_pixel", 4);
+    s.parameters.set("max_depth", 5);
+    s.parameters.setText("lighttrace_scoring", "collisions");
+    EXPECT_EQ(refusalOf(s), "");
+    RenderSettings v = s;
+    v.integrator = "volpath";
+    EXPECT_EQ(refusalOf(v), "render.lighttrace_scoring: not an option of volpath (its options: max_depth, clearance_first)");
+    setIntegrator(v, "volpath");
+    EXPECT_EQ(refusalOf(v), "");
+    EXPECT_EQ(v.parameters.numbers().size(), 1u);
+    ASSERT_TRUE(v.parameters.number("max_depth"));
+    EXPECT_EQ(*v.parameters.number("max_depth"), 5.0);
+    EXPECT_TRUE(v.parameters.texts().empty());
+}
+
 // The architecture's diagram names every registered estimator on its
 // "estimators:" line (docs/architecture.md, "Data flow").
 TEST(Docs, ArchitectureDiagramNamesEveryEstimator) {

@@ -44,7 +44,7 @@ TEST(PredictionGlb, ColoursOnTheModelAreTheVoxelsOverTheEyesFootprint) {
     const float radius_mm = 1.5f;
     TriangleMesh sphere = synthetic::sphereMesh(centre, radius_mm, 32);
     GridFrame frame;
-    frame.voxelSize_mm = {0.0423f, 0.0847f, 0.027f};
+    frame.voxelSize_mm = kPrinterVoxel_mm;
     for (int a = 0; a < 3; ++a) frame.resolution[a] = int(std::ceil(3.2f / frame.voxelSize_mm[a]));
     const std::vector<Vec3i> voxels = sphereSurfaceVoxels(frame, centre, radius_mm);
     ASSERT_GT(voxels.size(), 10000u);

@@ -15,7 +15,7 @@ using test::material;
 
 Scene mixedScene(float ior) {
     MaterialTable t = test::mixedResins();
-    return test::boxScene({40, 20, 60}, {0.0423f, 0.0847f, 0.027f},
+    return test::boxScene({40, 20, 60}, kPrinterVoxel_mm,
                           [](const Vec3i& v) {
                               static const Label palette[6] = {0, 1, 3, 4, 4, 6};
                               return palette[(v.x / 4 + 2 * (v.y / 3) + 3 * (v.z / 6)) % 6];
@@ -470,7 +470,7 @@ TEST(PrintPt, WhiteFurnaceWithinStatisticalError) {
     MaterialTable t = test::tableOf({{4, material({6, 9, 24}, {1, 1, 1}, {0.4f, 0.4f, 0.4f})},
                                      {6, material({0.5f, 0.5f, 0.5f}, {1, 1, 1})}});
     for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::boxScene({20, 10, 30}, {0.0423f, 0.0847f, 0.027f},
+        Scene scene = test::boxScene({20, 10, 30}, kPrinterVoxel_mm,
                                      [](const Vec3i& v) { return Label((v.x + v.z) % 3 ? 4 : 6); }, t, ior);
         const LabelGrid& g = scene.medium->grid();
         SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());

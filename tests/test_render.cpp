@@ -21,7 +21,7 @@ Scene furnaceScene(float ior, RGB environment) {
                                      {4, material({6, 9, 24}, {1, 1, 1}, {0.4f, 0.4f, 0.4f})},
                                      {3, material({80, 150, 300}, {1, 1, 1}, {-0.5f, 0.0f, 0.9f})},
                                      {6, material({1e-6f, 1e-6f, 1e-6f}, {1, 1, 1})}});
-    return test::boxScene({24, 12, 36}, {0.0423f, 0.0847f, 0.027f},
+    return test::boxScene({24, 12, 36}, kPrinterVoxel_mm,
                           [](const Vec3i& v) {
                               static const Label l[4] = {0, 4, 3, 6};
                               return l[(v.x / 3 + v.y / 2 + v.z / 5) % 4];
@@ -195,7 +195,7 @@ TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
     MaterialTable t = test::tableOf({{0, material({10, 8, 8}, {0.25f, 0.97f, 0.99f}, {0.4f, 0.4f, 0.4f})},
                                      {1, material({2.5f, 10, 6}, {0.98f, 0.25f, 0.9f}, {0.4f, 0.4f, 0.4f})},
                                      {4, material({6, 9, 24}, {0.995f, 0.995f, 0.995f}, {0.4f, 0.4f, 0.4f})}});
-    Scene scene = test::boxScene({30, 15, 40}, {0.0423f, 0.0847f, 0.027f},
+    Scene scene = test::boxScene({30, 15, 40}, kPrinterVoxel_mm,
                                  [](const Vec3i& v) { return Label((v.x * 7 + v.y * 3 + v.z) % 3 == 0 ? 4 : (v.x + v.z) % 2); },
                                  t, 1.5f);
     const LabelGrid& g = scene.medium->grid();

@@ -16,7 +16,6 @@
 namespace pl {
 namespace {
 
-const Vec3f kPrinterVoxel_mm{0.0423f, 0.0847f, 0.027f};
 
 // Mean distance (mm) from each point to its nearest other on the tile's torus.
 double meanNearestDistance_mm(const std::vector<Vec3i>& points, const Vec3i& tile, const Vec3f& voxel_mm) {

@@ -23,7 +23,7 @@ constexpr int kCell = UniformRegions::kCellSize;
 LabelGrid testGrid(GridFrame& f) {
     f.indexMin = {-3, 5, 2};
     f.resolution = {75, 49, 61};
-    f.voxelSize_mm = {0.0423f, 0.0847f, 0.027f};
+    f.voxelSize_mm = kPrinterVoxel_mm;
     std::vector<Label> labels(f.voxelCount());
     size_t i = 0;
     for (int z = 0; z < f.resolution.z; ++z)
