@@ -527,6 +527,11 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     const bool oneSeed = settings.carryOver == CarryOver::Method::KeptSamples && predictor.carriesOver();
     // The Monte Carlo integrator of the settings, and the fast one if any.
     const std::string monteCarlo = predictor.settings().integrator;
+    // Back to it with its own parameters (the fast one reads none of them).
+    auto useMonteCarlo = [&] {
+        predictor.settings().integrator = monteCarlo;
+        predictor.settings().parameters = restore.saved.parameters;
+    };
     const bool fastFirst =
         !settings.fastPredictor.empty() && settings.fastPredictor != monteCarlo && settings.maxIterations > 0;
     if (fastFirst) setIntegrator(predictor.settings(), settings.fastPredictor);
@@ -606,7 +611,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
         // A new seed each iteration: the loop must not fit one noise
         // realisation. Carrying over, new samples of the same seed.
         if (!oneSeed) predictor.settings().seed = baseSeed + uint64_t(iteration) + 1;
-        if (next.switchToMonteCarlo) setIntegrator(predictor.settings(), monteCarlo);
+        if (next.switchToMonteCarlo) useMonteCarlo();
         if (next.moreSpp > 0) {
             predictor.settings().spp = next.moreSpp;
             raisedAt = iteration;
@@ -633,6 +638,7 @@ OptimizeResult optimizeAppearance(Predictor& predictor, const PrinterGamut& gamu
     if (result.bestIteration != result.iterations.back().iteration)
         restoreBestLabels(predictor, bestLabels, owner);
     if (settings.judge) {
+        useMonteCarlo();
         const std::string judge = settings.judgeIntegrator.empty() ? monteCarlo : settings.judgeIntegrator;
         result.judgement = judgePrint(predictor, settings, judge, goal.eye, result.aimedAt, aim.mapped, environment);
     }

@@ -45,7 +45,7 @@ namespace {
 // RMS standard error.
 void makeReference(const Scene& scene, const Sensor& sensor, RenderSettings s, const std::string& file,
                    const Arguments& args, const SceneDescription& desc, bool acrossRanks, bool speaks) {
-    s.spp = uint32_t(args.integer("--spp", 1, 1 << 24).value_or(256));
+    s.spp = uint32_t(args.integer("--spp", 1, RenderSettings::kMostSpp).value_or(256));
     s.seed = 0x5eed;
     s.showProgress = speaks && ProgressBar::stderrIsTerminal();
     refuseToOverwriteInputs(file, desc.inputFiles());

@@ -87,10 +87,8 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec, const 
         }
     if (!findIntegratorKind(parts[0])) return std::nullopt;
     RenderSettings s = base;
-    s.integrator = parts[0];
+    setIntegrator(s, parts[0]);  // the scene's keys that this estimator reads
     s.reentry = false;
-    s.parameters = EstimatorParameters{};
-    s.parameters.materialsFile = base.parameters.materialsFile;
     for (size_t i = 1; i < parts.size(); ++i) {
         const size_t eq = parts[i].find('=');
         if (eq == std::string::npos) throw UsageError("configuration '" + spec + "': overrides are key=value");

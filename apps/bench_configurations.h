@@ -1,5 +1,5 @@
 // The configurations printlight bench compares: every registered estimator
-// by its name, with its defaults, and named variants of them, each an
+// by its name, with the scene's keys it reads, and named variants, each an
 // estimator and its overrides. A configuration is a name and overrides
 // after slashes, e.g. "printpt/k=1/rr_threshold=0.2/nee=1",
 // "lighttrace/particles_per_pixel=2", "pb2d/beams_radius_voxels=4",
@@ -16,8 +16,8 @@
 
 namespace pl {
 
-// The settings of configuration `spec`: the scene's (`base`) with the
-// estimator's defaults and the overrides; nullopt for an unknown name,
+// The settings of configuration `spec`: the scene's (`base`), its keys
+// that the estimator reads (setIntegrator) and the overrides; nullopt for an unknown name,
 // UsageError for an override the estimator does not take.
 std::optional<RenderSettings> parseConfiguration(const std::string& spec, const RenderSettings& base);
 

@@ -53,6 +53,10 @@ SceneDescription describeRender(const Arguments& args) {
     applyRenderOptions(args, desc.render);
     applyRenderOption(args, "--time", "time_budget_s", desc.render);
     applyRenderOption(args, "--target-error", "target_relative_error", desc.render);
+    // The scene's 0 (none) is no stop on the command line, where these set one.
+    if (args.has("--time") && !(desc.render.timeBudget_s > 0)) throw UsageError("--time must be positive (seconds)");
+    if (args.has("--target-error") && !(desc.render.targetRelativeError > 0))
+        throw UsageError("--target-error must be positive");
     if ((args.has("--time") || args.has("--target-error")) && !args.has("--spp"))
         desc.render.spp = uint32_t(RenderSettings::kMostSpp);  // the budget or the target decides
     if (auto o = args.value("-o")) desc.output = *o;

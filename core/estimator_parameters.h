@@ -19,6 +19,8 @@
 
 namespace pl {
 
+struct ParameterInfo;
+
 class EstimatorParameters {
   public:
     void set(const std::string& name, double value) { numbers_[name] = value; }
@@ -34,15 +36,17 @@ class EstimatorParameters {
         return it == texts_.end() ? nullptr : &it->second;
     }
     // Drops the keys `infos` does not name (another estimator's).
-    void keepOnly(const std::vector<struct ParameterInfo>& infos);
+    void keepOnly(const std::vector<ParameterInfo>& infos);
     bool operator==(const EstimatorParameters& o) const {
         return numbers_ == o.numbers_ && texts_ == o.texts_ && materialsFile == o.materialsFile;
     }
     bool operator!=(const EstimatorParameters& o) const { return !(*this == o); }
 
-    // The scene's material table: files an estimator keeps beside it (the
-    // learned model) are looked for there. Paths in texts are absolute or
-    // relative to the working directory (the scene parser resolves them).
+    // Where the scene's material table is: the files an estimator keeps
+    // beside it (the learned model) are found from it, as pbrt-v4's
+    // dictionary resolves file names against the scene's folder. Paths in
+    // texts are absolute or relative to the working directory (the scene
+    // parser resolves them).
     std::filesystem::path materialsFile;
 
   private:
@@ -55,7 +59,7 @@ class EstimatorParameters {
 struct ParameterInfo {
     enum class Kind { Boolean, Integer, Number, Name, Path };
     std::string name;
-    Kind kind;
+    Kind kind = Kind::Number;
     std::string doc;
     double min = 0, max = 0;
     bool minOpen = false;
@@ -88,13 +92,16 @@ ParameterInfo describeChoice(const char* name, const std::array<EnumName<Enum>, 
     return info;
 }
 
-// The options the table names, from the parameters over `options`' values
-// (checkParameters has refused what is out of range).
+// The options the table names, from the parameters over `options`' values.
+// checkParameters refuses a value out of range first; settings made in
+// code that skip it get std::invalid_argument here, never a default.
 template <class Options>
 Options readOptions(const std::vector<OptionParameter<Options>>& table, const EstimatorParameters& parameters,
                     Options options = {}) {
     for (const OptionParameter<Options>& p : table)
-        if (const double* value = parameters.number(p.name)) setOption(p, options, *value);
+        if (const double* value = parameters.number(p.name))
+            if (std::string problem = setOption(p, options, *value); !problem.empty())
+                throw std::invalid_argument(std::string(p.name) + ": " + problem);
     return options;
 }
 
@@ -103,7 +110,7 @@ Options readOptions(const std::vector<OptionParameter<Options>>& table, const Es
 template <class Options>
 void writeOptions(const std::vector<OptionParameter<Options>>& table, const Options& options,
                   EstimatorParameters& parameters) {
-    const Options defaults{};
+    static const Options defaults{};
     for (const OptionParameter<Options>& p : table)
         if (optionValue(p, options) != optionValue(p, defaults)) parameters.set(p.name, optionValue(p, options));
 }

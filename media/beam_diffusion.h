@@ -5,8 +5,8 @@
 // area at distance r from where it entered, per unit of the beam's power
 // inside. Multiple scattering is the diffusion of dipoles placed along
 // the beam (Grosjean's diffusion coefficient, the Kienle-Patterson
-// boundary); single scattering is exact. The fast predictor's profile
-// : its bias against the exact half-space (slab_transport.h)
+// boundary); single scattering is exact. The fast predictor's profile:
+// its bias against the exact half-space (slab_transport.h)
 // is measured in tests/test_beam_diffusion.cpp.
 #pragma once
 

@@ -57,8 +57,8 @@ if ((tests)); then
   cmake --build build -j"$(nproc)"
 else
   targets=(printlight make-test-data)
-  help=$(cmake --build build --target help)
-  grep -qx '\.\.\. printlight_python' <<<"$help" && targets+=(printlight_python)
+  # The Python module where CMake found pybind11 (CMakeLists.txt).
+  grep -q '^pybind11_DIR:PATH=/' build/CMakeCache.txt && targets+=(printlight_python)
   cmake --build build -j"$(nproc)" --target "${targets[@]}"
 fi
 

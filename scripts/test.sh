@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh --tests
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
-ctest --test-dir build --output-on-failure -j2 "$@" | tee "$log"
+ctest --test-dir build --output-on-failure -j2 --no-tests=error "$@" | tee "$log"
 if grep -q "(Skipped)" "$log"; then
   echo "test: $(grep -c '(Skipped)' "$log") test(s) skipped (listed above): everything they need should be installed" >&2
   exit 1

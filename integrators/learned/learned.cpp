@@ -77,8 +77,10 @@ std::filesystem::path modelFileOf(const EstimatorParameters& parameters) {
 }  // namespace
 
 std::vector<ParameterInfo> Learned::parameters() {
-    ParameterInfo model{"learned_model", ParameterInfo::Kind::Path,
-                        "the learned predictor's model file; default: the one beside the material table"};
+    ParameterInfo model;
+    model.name = "learned_model";
+    model.kind = ParameterInfo::Kind::Path;
+    model.doc = "the learned predictor's model file; default: the one beside the material table";
     return {model};
 }
 

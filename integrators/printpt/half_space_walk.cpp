@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
@@ -125,6 +126,9 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
     constexpr int64_t kChunk = 4096;
     const int64_t chunks = (walks + kChunk - 1) / kChunk;
     std::vector<double> sum(size_t(chunks), 0.0), sumSq(size_t(chunks), 0.0);
+    // Its own context: a render cancelled around it cannot cut a mean
+    // short that the process-wide cache then keeps.
+    tbb::task_group_context own(tbb::task_group_context::isolated);
     tbb::parallel_for(int64_t(0), chunks, [&](int64_t c) {
         Rng rng = Rng::forPath(seed, uint64_t(c), 0, 0);
         int64_t collisions = 0;
@@ -134,7 +138,7 @@ HalfSpaceMean estimateHalfSpaceMean(const HalfSpace& hs, const RouletteRule& rou
             sum[size_t(c)] += f;
             sumSq[size_t(c)] += f * f;
         }
-    });
+    }, own);
     double s = 0, s2 = 0;
     for (int64_t c = 0; c < chunks; ++c) {
         s += sum[size_t(c)];
@@ -172,6 +176,10 @@ HalfSpaceMean HalfSpaceMeans::get(const HalfSpace& hs, const RouletteRule& roule
         try {
             promise.set_value(estimateHalfSpaceMean(hs, roulette, ballMinMfp, walks, seed));
         } catch (...) {
+            {  // not kept: the next render asks again
+                std::lock_guard<std::mutex> lock(mutex_);
+                known_.erase(key);
+            }
             promise.set_exception(std::current_exception());
         }
     }
