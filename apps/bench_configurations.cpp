@@ -1,5 +1,7 @@
 #include "apps/bench_configurations.h"
 
+#include <array>
+#include <optional>
 #include <stdexcept>
 
 #include "apps/arguments.h"
@@ -46,21 +48,22 @@ const std::vector<std::pair<const char*, const char*>> kVariants = {
     {"printpt-spectral", "printpt/channel_sampling=spectral"},
 };
 
+// The enum's value of that name, into `out`.
+template <class Enum, size_t N>
+void setChoice(const std::string& key, const std::array<EnumName<Enum>, N>& names, const std::string& value,
+               Enum& out) {
+    const std::optional<Enum> parsed = parseEnum(names, value);
+    if (!parsed) throw std::invalid_argument(key + ": must be " + enumNames(names));
+    out = *parsed;
+}
+
 // One override of a configuration: a render-block name (majorants,
 // channel_sampling) or a key of the estimator's own, as the scene file
 // spells it ("k" is printpt's branches).
 void applyOverride(RenderSettings& s, std::string key, const std::string& value) {
     if (key == "k") key = "branches";
-    if (key == "majorants" || key == "channel_sampling") {
-        const bool known = key == "majorants" ? parseEnum(kMajorantsNames, value).has_value()
-                                              : parseEnum(kChannelSamplingNames, value).has_value();
-        if (!known)
-            throw std::invalid_argument(key + ": must be " + (key == "majorants" ? enumNames(kMajorantsNames)
-                                                                                  : enumNames(kChannelSamplingNames)));
-        if (key == "majorants") s.majorants = *parseEnum(kMajorantsNames, value);
-        else s.channelSampling = *parseEnum(kChannelSamplingNames, value);
-        return;
-    }
+    if (key == "majorants") return setChoice(key, kMajorantsNames, value, s.majorants);
+    if (key == "channel_sampling") return setChoice(key, kChannelSamplingNames, value, s.channelSampling);
     const ParameterInfo* info = findParameter(integratorKindOf(s).factory.parameters(), key);
     if (info && info->isText()) {
         s.parameters.setText(key, value);

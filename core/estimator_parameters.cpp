@@ -11,20 +11,20 @@ const ParameterInfo* findParameter(const std::vector<ParameterInfo>& infos, cons
 }
 
 void EstimatorParameters::keepOnly(const std::vector<ParameterInfo>& infos) {
-    for (auto it = numbers_.begin(); it != numbers_.end();) it = findParameter(infos, it->first) ? std::next(it) : numbers_.erase(it);
-    for (auto it = texts_.begin(); it != texts_.end();) it = findParameter(infos, it->first) ? std::next(it) : texts_.erase(it);
+    auto unread = [&](const auto& entry) { return !findParameter(infos, entry.first); };
+    for (auto it = numbers_.begin(); it != numbers_.end();) it = unread(*it) ? numbers_.erase(it) : std::next(it);
+    for (auto it = texts_.begin(); it != texts_.end();) it = unread(*it) ? texts_.erase(it) : std::next(it);
 }
 
 namespace {
 
-// As setOption (core/option_table.h) checks a value.
+// As setOption (core/option_table.h) checks a value: the same range test.
 std::string rangeProblem(const ParameterInfo& info, double value) {
     using Kind = ParameterInfo::Kind;
     if (info.kind == Kind::Boolean) return "";
-    if (info.singlePrecision) value = double(float(value));
-    const bool inRange = (info.minOpen ? value > info.min : value >= info.min) && value <= info.max;
-    if (!inRange || (info.kind == Kind::Integer && value != double(int64_t(value)))) return info.rangeText;
-    return "";
+    return inOptionRange(value, info.min, info.max, info.minOpen, info.kind == Kind::Integer, info.singlePrecision)
+               ? ""
+               : info.rangeText;
 }
 
 }  // namespace

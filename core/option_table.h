@@ -43,6 +43,14 @@ const OptionParameter<Options>* findOption(const std::vector<OptionParameter<Opt
     return nullptr;
 }
 
+// Whether a number lies in [min, max] ((min, max] with minOpen), and is
+// whole if asked. A float field's value is checked as the field will hold it.
+inline bool inOptionRange(double value, double min, double max, bool minOpen, bool whole, bool singlePrecision) {
+    if (singlePrecision) value = double(float(value));
+    const bool inRange = (minOpen ? value > min : value >= min) && value <= max;
+    return inRange && (!whole || value == double(int64_t(value)));
+}
+
 // Sets the option (booleans: value != 0). Returns what is wrong with the
 // value ("must be in (0, 1]"), or "" if it was set.
 template <class Options>
@@ -52,11 +60,9 @@ std::string setOption(const OptionParameter<Options>& p, Options& options, doubl
         options.*(*flag) = value != 0.0;
         return "";
     }
-    // A float field is checked as it will hold the value.
-    if (std::holds_alternative<float Options::*>(p.field)) value = double(float(value));
-    const bool whole = p.kind() == Kind::Integer;
-    const bool inRange = (p.minOpen ? value > p.min : value >= p.min) && value <= p.max;
-    if (!inRange || (whole && value != double(int64_t(value)))) return p.rangeText;
+    if (!inOptionRange(value, p.min, p.max, p.minOpen, p.kind() == Kind::Integer,
+                       std::holds_alternative<float Options::*>(p.field)))
+        return p.rangeText;
     std::visit(
         [&](auto member) {
             using Field = std::remove_reference_t<decltype(options.*member)>;
