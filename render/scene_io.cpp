@@ -234,17 +234,21 @@ SceneDescription parseScene(const std::filesystem::path& sceneFile) {
 }
 
 namespace {
+// A number as a key of that kind is written: true or false, a whole number, or as it is.
+nlohmann::ordered_json numberAs(ParameterInfo::Kind kind, double value) {
+    if (kind == ParameterInfo::Kind::Boolean) return value != 0;
+    if (kind == ParameterInfo::Kind::Integer) return int64_t(value);
+    return value;
+}
+
 // The render block's table options that differ from the defaults.
 template <class Options>
 void writeOptions(const std::vector<OptionParameter<Options>>& table, const Options& options, const Options& defaults,
                   nlohmann::ordered_json& out) {
-    using Kind = typename OptionParameter<Options>::Kind;
-    for (const OptionParameter<Options>& p : table) {
-        const double value = optionValue(p, options);
-        if (value == optionValue(p, defaults)) continue;
-        if (p.kind() == Kind::Boolean) out[p.name] = value != 0;
-        else if (p.kind() == Kind::Integer) out[p.name] = int64_t(value);
-        else out[p.name] = value;
+    const std::vector<ParameterInfo> infos = describe(table);
+    for (size_t i = 0; i < table.size(); ++i) {
+        const double value = optionValue(table[i], options);
+        if (value != optionValue(table[i], defaults)) out[table[i].name] = numberAs(infos[i].kind, value);
     }
 }
 
@@ -271,9 +275,7 @@ nlohmann::ordered_json renderBlockOf(const SceneDescription& d, const std::files
     const std::vector<ParameterInfo> infos = integratorKindOf(r).factory.parameters();
     for (const auto& [key, value] : r.parameters.numbers()) {
         const ParameterInfo* info = findParameter(infos, key);
-        if (info && info->kind == Kind::Boolean) ren[key] = value != 0;
-        else if (info && info->kind == Kind::Integer) ren[key] = int64_t(value);
-        else ren[key] = value;
+        ren[key] = numberAs(info ? info->kind : Kind::Number, value);
     }
     for (const auto& [key, text] : r.parameters.texts()) {
         const ParameterInfo* info = findParameter(infos, key);
