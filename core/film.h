@@ -42,6 +42,12 @@ class ImageNeighbourhood;
 //    LightBlockScores). That part's error is this estimate, at any number
 //    of samples, and the residual, the rest's random part, is pooled where
 //    flat or else taken from its own spread.
+//  - bias: the sample's own estimate of its value's bias, which no number
+//    of samples averages out (a kernel estimator's, from two radii). The
+//    pixel's shared error adds the bias their mean shows beyond its own
+//    noise: sqrt(mean^2 - its variance), an unbiased estimate of the
+//    squared bias, so that the error squared estimates the mean squared
+//    error.
 struct ChannelSample {
     float value = 0.0f;
     float sharedError = 0.0f;
@@ -50,6 +56,7 @@ struct ChannelSample {
     bool poolWhereFlat = false;
     bool hasWithinVariance = false;
     float withinVariance = 0.0f;
+    float bias = 0.0f;
 };
 
 class Film {
@@ -76,6 +83,12 @@ public:
         addGroup(pixel, channel, sample.value, 1);
         Accumulator& a = acc_[channel][pixel];
         a.sharedErrorSum += sample.sharedError;
+        if (sample.bias != 0.0f || a.biasM2 != 0.0f || a.biasMean != 0.0f) {
+            // Welford over all the pixel's samples (those before had none).
+            const float d = sample.bias - a.biasMean;
+            a.biasMean += d / float(a.count);
+            a.biasM2 += d * (sample.bias - a.biasMean);
+        }
         // A surface voxel's samples share its entry: the first key stands
         // for all. A camera pixel's may not (entries into other labels,
         // rays that miss): its residuals then do not hold its error, and it
@@ -293,7 +306,17 @@ private:
         if (a.units < 2) return 0.0f;
         return float(std::sqrt(std::max(0.0, double(a.m2)) / (double(a.count) * (a.units - 1))));
     }
-    static float sharedError(const Accumulator& a) { return a.count ? a.sharedErrorSum / float(a.count) : 0.0f; }
+    static float sharedError(const Accumulator& a) {
+        return a.count ? a.sharedErrorSum / float(a.count) + biasError(a) : 0.0f;
+    }
+    // The bias the samples' own estimates show beyond their noise (one
+    // sample: its estimate as it is).
+    static float biasError(const Accumulator& a) {
+        const double mean = a.biasMean;
+        if (a.count < 2) return float(std::abs(mean));
+        const double varianceOfMean = double(a.biasM2) / (double(a.count) - 1.0) / double(a.count);
+        return float(std::sqrt(std::max(0.0, mean * mean - varianceOfMean)));
+    }
     static float independentError(const Accumulator& a) {
         if (a.hasWithinVariance) {
             const double rest = pooledKeyOf(a) < 0 ? 0.0 : residualFlat(a) ? a.pooledError : residualSpread(a);
@@ -322,6 +345,7 @@ private:
         float mean = 0, m2 = 0;                  // of the units (addGroup)
         float residualMean = 0, residualM2 = 0;  // of the pooled samples' residuals
         float sharedErrorSum = 0;                // of the samples' shared standard errors
+        float biasMean = 0, biasM2 = 0;          // of the samples' bias estimates (Welford)
         float withinVarianceSum = 0;             // of the samples' withinVariance
         float pooledError = 0;
         uint32_t count = 0;  // samples

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,19 @@ inline Ray enteringRay(const Scene& scene, const Ray& camera, const SurfaceHit& 
 // channel and the label just inside the entry. Above every control's key.
 inline int32_t entryPoolKey(int channel, Label entryLabel) {
     return (int32_t(1) << 24) + int32_t(channel) * 256 + int32_t(entryLabel);
+}
+// Pools a sample without a control over the samples that enter the same
+// label where a pixel's samples are all equal: a walk's sample is Le or 0
+// (or a roulette weight), a kernel's 0 where no photon came near, and a
+// pixel's few samples' spread then says nothing (Film,
+// ChannelSample::poolWhereFlat). `entry` is the camera ray's first hit.
+inline void poolByEntry(ChannelSample& sample, const Scene& scene, const Ray& ray,
+                        const std::optional<SurfaceHit>& entry, int channel, LabelMedium::Tracker& medium) {
+    if (!entry || !(dot(ray.d, entry->ng) < 0)) return;
+    const Point3f inside = entry->p - entry->ng * scene.geometry->rayEpsilon_mm();
+    sample.poolKey = entryPoolKey(channel, medium.labelAt(scene.medium->voxelAt(inside)));
+    sample.residual = sample.value;
+    sample.poolWhereFlat = true;
 }
 // The same for a part of a sample that must not pool with whole samples
 // (light tracing's camera side, whose light side is estimated apart).

@@ -8,8 +8,12 @@
 //    before a spawned ray's origin counts), with the throughput the
 //    particle carries along it;
 //  - onCollision(y, dIn, label, path): every real collision, after the
-//    albedo and before the roulette.
+//    albedo and before the roulette. A hook that returns a bool ends the
+//    path where it returns true (it estimated the rest itself: pb2d's
+//    gather).
 #pragma once
+
+#include <type_traits>
 
 #include <cstdint>
 #include <optional>
@@ -99,7 +103,11 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
                 bounces = 0;
                 path.collide(ff.label);
                 const Point3f y = ray.at(t);
-                onCollision(y, ray.d, ff.label, path);
+                if constexpr (std::is_same_v<decltype(onCollision(y, ray.d, ff.label, path)), bool>) {
+                    if (onCollision(y, ray.d, ff.label, path)) return L;
+                } else {
+                    onCollision(y, ray.d, ff.label, path);
+                }
                 float q = path.rouletteValue();
                 if (q < 1.0f) {
                     if (!(rng.uniform() < q)) return L;

@@ -70,6 +70,31 @@ TEST(PhotonBeams, MapFindsEveryBeamWithinTheRadius) {
     }
 }
 
+// The kernels at both radii integrate to 1 (the disc's over the plane, the
+// line's across it), and a density that does not vary shows no bias.
+TEST(PhotonBeams, KernelsAtBothRadiiIntegrateToOne) {
+    const double r = 0.3, step = r / 2000;
+    TwoRadii disc, line;
+    for (double x = step / 2; x < r; x += step) {
+        disc += discBiweight(x * x, r * r) * (2.0 * kPi * x * step);
+        line += lineBiweight(x * x, r) * (2.0 * step);
+    }
+    EXPECT_NEAR(disc.full, 1.0, 1e-5);
+    EXPECT_NEAR(disc.half, 1.0, 1e-5);
+    EXPECT_NEAR(line.full, 1.0, 1e-5);
+    EXPECT_NEAR(line.half, 1.0, 1e-5);
+    EXPECT_NEAR(disc.bias(), 0.0, 1e-5);
+    // Half the disc cut away beyond 0.75 r from the query: the half radius
+    // misses none of it, the full one some, and the bias says how much.
+    TwoRadii cut;
+    for (double x = -r; x < r; x += step)
+        for (double y = -r; y < r; y += step)
+            if (x < 0.75 * r) cut += discBiweight(x * x + y * y, r * r) * (step * step);
+    EXPECT_NEAR(cut.half, 1.0, 1e-3);
+    EXPECT_LT(cut.full, 1.0);
+    EXPECT_NEAR(cut.bias(), 2.0 * (cut.full - 1.0), 1e-3);
+}
+
 TEST(PhotonBeams, RadiusShrinksWithTheKernelsDimensions) {
     Scene scene = test::homogeneousPhotonBox(material({10, 10, 10}, {0.9f, 0.9f, 0.9f}), 1.5f);
     const LabelGrid& g = scene.medium->grid();

@@ -154,6 +154,27 @@ TEST(Film, PoolsResidualsPerKeyAndAddsSharedErrors) {
     EXPECT_FLOAT_EQ(f.standardError(2, 0), 0.001f);
 }
 
+// A sample's bias estimate: the pixel's shared error adds the bias their
+// mean shows beyond its own noise, sqrt(mean^2 - variance of the mean).
+TEST(Film, AddsTheBiasItsSamplesShowBeyondTheirNoise) {
+    Film f(3);
+    const float noisy[] = {0.3f, -0.1f, 0.2f, -0.4f};  // mean 0, variance of the mean 0.025
+    for (int s = 0; s < 4; ++s) {
+        ChannelSample steady{0.5f}, spread{0.5f}, shifted{0.5f};
+        steady.bias = 0.1f;
+        spread.bias = noisy[s];
+        shifted.bias = 1.0f + noisy[s];
+        f.add(0, 0, steady);
+        f.add(1, 0, spread);
+        f.add(2, 0, shifted);
+    }
+    f.poolErrors();
+    EXPECT_NEAR(f.sharedError(0, 0), 0.1f, 1e-6);
+    EXPECT_EQ(f.sharedError(1, 0), 0.0f);  // no bias beyond the noise
+    EXPECT_NEAR(f.sharedError(2, 0), std::sqrt(1.0 - 0.025), 1e-6);
+    EXPECT_NEAR(f.standardError(2, 0), f.sharedError(2, 0), 1e-6);  // the values themselves are all equal
+}
+
 // A pixel's variance is shrunk towards its neighbours' in the sensor's
 // image: one sample of its own says nothing, its neighbours' do.
 TEST(Film, OneSampleTakesItsNeighboursVariance) {

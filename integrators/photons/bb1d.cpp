@@ -18,12 +18,11 @@ namespace {
 constexpr float kLeastSin2 = 1e-6f;
 }  // namespace
 
-float Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
-    const double kernelScale = 16.0 / (5.0 * kPi * double(map.radius_mm()));
-    double gathered = 0;
+    TwoRadii gathered;
     auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& path) {
         thread_local BeamSum sum;
         sum.clear();
@@ -44,18 +43,16 @@ float Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMediu
             if (!(d2 < r2)) return;
             const Label l = medium.labelAt(scene_.medium->voxelAt(flight.at(t)));
             const double sigmaS_perMm = double(lut.sigmaT_perMm[l]) * lut.albedo[l];
-            const double u = 1.0 - double(d2) / r2;
-            const double k1 = kernelScale * u * u * std::sqrt(u);
-            sum.add(i, sigmaS_perMm * k1 / std::sqrt(double(sin2)) * hgPhase(dot(b.d, -flight.d), lut.g[l]) *
-                           double(b.power));
+            sum.add(i, lineBiweight(d2, map.radius_mm()) * (sigmaS_perMm / std::sqrt(double(sin2)) *
+                                                             hgPhase(dot(b.d, -flight.d), lut.g[l]) * double(b.power)));
         });
-        gathered += double(path.beta) * sum.total();
+        gathered += sum.total() * double(path.beta);
     };
     SingleChannelPath path{&lut, channel, scene_.environment[channel]};
     const float escaped =
         walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats, onFlight,
                    [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
-    return escaped + float(gathered * insideToOutside());
+    return kernelSample(escaped, gathered * insideToOutside());
 }
 
 }  // namespace pl

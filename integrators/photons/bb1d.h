@@ -25,7 +25,7 @@ public:
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("bb1d", settings); }
     static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
-    float Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+    ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
              PathStats& stats) const override;
 };
 

@@ -121,29 +121,28 @@ Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, floa
         return std::exp(-(p.tau0 + double(p.sigmaT) * (std::min(t, p.t1) - p.t0)));
     };
     const float r2 = map.radius_mm() * map.radius_mm();
-    const double kernelScale = 3.0 / (kPi * double(r2));  // Silverman's biweight, unit integral over the disc
-    double sum = 0;
+    TwoRadii sum;
     map.forEachNear(ray, tCut, [&](const PhotonMap::Photon& ph) {
         const Vec3f v = ph.p - ray.o;
         const float t = dot(v, ray.d);
         if (t < 0.0f || t > tCut) return;
         const float d2 = dot(v, v) - t * t;
         if (!(d2 < r2)) return;
-        const double w = 1.0 - double(d2) / r2;
-        const double k = kernelScale * w * w;
-        sum += k * transmittanceTo(t) * hgPhase(dot(ph.dIn, -ray.d), lut.g[ph.label]) * double(ph.power);
+        sum += discBiweight(d2, r2) *
+               (transmittanceTo(t) * hgPhase(dot(ph.dIn, -ray.d), lut.g[ph.label]) * double(ph.power));
     });
     return {sum, cut ? 0.0f : float(std::exp(-tau))};
 }
 
-float Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const {
+ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const {
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     const std::optional<SurfaceHit> entry = geometry.intersect(cameraRay);
-    if (!entry) return Le;
+    if (!entry) return ChannelSample{Le};
     const Vec3f n = dot(cameraRay.d, entry->ng) < 0 ? entry->ns : -entry->ns;
     const float F = fresnelDielectric(-dot(cameraRay.d, n), scene_.ior);
-    double L = double(F) * Le;
+    double L = double(F) * Le;  // what comes without the kernel
+    TwoRadii gathered;
     // The radiance inside, in the path tracers' unit: over n^2.
     const double insideToOutside = 1.0 / (double(scene_.ior) * scene_.ior);
     double beta = 1.0 - F;
@@ -152,7 +151,7 @@ float Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, Label
         const std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
         if (!exit) break;  // a numerical leak
         const SegmentGather g = gatherSegment(map, ray, exit->t, channel, medium);
-        L += beta * g.radiance * insideToOutside;
+        gathered += g.radiance * (beta * insideToOutside);
         if (!(g.transmittance > 0.0f)) break;
         // The environment straight through the far side, and the rest
         // reflected back inside.
@@ -161,7 +160,9 @@ float Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, Label
         beta *= double(g.transmittance) * Ffar;
         ray = reflectedInside(geometry, ray.d, *exit);
     }
-    return float(L);
+    ChannelSample sample = kernelSample(L, gathered);
+    poolByEntry(sample, scene_, cameraRay, entry, channel, medium);
+    return sample;
 }
 
 void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
@@ -173,8 +174,7 @@ void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressB
             const size_t p = share.pixel(i);
             Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
             const float u0 = rng.uniform(), u1 = rng.uniform();
-            const float value = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
-            film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
+            film.add(share.filmPixel(i), pass.channel, gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium));
             ++tileStats.paths;
         });
     }

@@ -18,8 +18,8 @@
 // below 1 % (the photons beyond are left out, a small bias). The radius
 // shrinks as r_{i+1}^2 = r_i^2 (i + alpha) / (i + 1), so the bias vanishes
 // as iterations go on; a pixel's reported error is the spread of its
-// iterations, which does not see the remaining bias (bench against a
-// reference measures both). Separate channel passes only.
+// iterations and the bias each iteration sees between its radius and half
+// of it (integrators/photons/two_radii.h). Separate channel passes only.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +31,7 @@
 #include "integrators/integrator.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"
+#include "integrators/photons/two_radii.h"
 #include "integrators/volpath/volpath.h"
 
 namespace pl {
@@ -92,15 +93,16 @@ public:
     float radiusAt_mm(uint32_t iteration) const;
     // The photons of sample `sample` in a channel.
     PhotonMap tracePhotons(int channel, uint32_t sample, PathStats& stats) const;
-    // The radiance arriving along -ray.d at ray.o, gathered from the map.
-    float gather(const PhotonMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium) const;
+    // The radiance arriving along -ray.d at ray.o, gathered from the map,
+    // with the kernel's bias (integrators/photons/two_radii.h).
+    ChannelSample gather(const PhotonMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium) const;
 
 private:
     // The photons gathered along one straight segment inside, from its
     // origin up to tEnd_mm, and the transmittance over the whole segment
     // (0 where the 1 % cut-off fell short of it).
     struct SegmentGather {
-        double radiance;  // inside the medium, in the photons' units
+        TwoRadii radiance;  // inside the medium, in the photons' units
         float transmittance;
     };
     SegmentGather gatherSegment(const PhotonMap& map, const Ray& ray, float tEnd_mm, int channel,

@@ -10,13 +10,19 @@ std::unique_ptr<Integrator> Pb2d::create(const Scene& scene, const Sensor& senso
     return std::make_unique<Pb2d>(scene, sensor, readOptions(beamParameters(), s.parameters), s.majorants, s.seed);
 }
 
-float Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
                PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
-    const double kernelScale = 3.0 / (kPi * double(r2));
-    double gathered = 0;
+    TwoRadii gathered;
+    // Only where the kernel's disc cannot reach past the boundary (no beam
+    // lies beyond it: a disc cut there would miss their share): the block's
+    // clearance, or else the nearest surface point; elsewhere the path
+    // walks on as volpath's.
+    const float reach_mm = map.radius_mm() + scene_.geometry->surfaceLift_mm();
     auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
+        const bool clear = scene_.clearance->at(x) >= reach_mm || !scene_.geometry->closestPoint(x, reach_mm);
+        if (!clear) return false;
         thread_local BeamSum sum;
         sum.clear();
         const float g = lut.g[label];
@@ -28,15 +34,15 @@ float Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMediu
             const Vec3f across = v - b.d * s;  // not |v|^2 - s^2: that cancels on long beams (clear resin)
             const float d2 = dot(across, across);
             if (!(d2 < r2)) return;
-            const double w = 1.0 - double(d2) / r2;
-            sum.add(i, kernelScale * w * w * hgPhase(dot(b.d, -dIn), g) * double(b.power));
+            sum.add(i, discBiweight(d2, r2) * (hgPhase(dot(b.d, -dIn), g) * double(b.power)));
         });
-        gathered += double(path.beta) * sum.total();
+        gathered += sum.total() * double(path.beta);
+        return true;
     };
     SingleChannelPath path{&lut, channel, scene_.environment[channel]};
-    const float escaped = walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats,
+    const float escaped = walkVolume(scene_, VolPathOptions{}, /*reentry=*/false, ray, path, medium, rng, stats,
                                      [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
-    return escaped + float(gathered * insideToOutside());
+    return kernelSample(escaped, gathered * insideToOutside());
 }
 
 }  // namespace pl

@@ -65,9 +65,10 @@ PhotonBeamMap::PhotonBeamMap(std::vector<PhotonBeam> beams, float radius_mm, con
     grid_.fill(std::move(entries));
 }
 
-double BeamSum::total() {
-    std::sort(terms_.begin(), terms_.end());
-    double sum = 0;
+TwoRadii BeamSum::total() {
+    // A beam's repeats are equal: the order among them does not matter.
+    std::sort(terms_.begin(), terms_.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    TwoRadii sum;
     for (size_t i = 0; i < terms_.size(); ++i)
         if (i == 0 || terms_[i].first != terms_[i - 1].first) sum += terms_[i].second;
     return sum;
@@ -113,8 +114,10 @@ void PhotonBeamEstimator::render(const RenderPass& pass, Film& film, PathStats& 
             const size_t p = share.pixel(i);
             Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
             const float u0 = rng.uniform(), u1 = rng.uniform();
-            const float value = Li(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium, rng, tileStats);
-            film.add(share.filmPixel(i), pass.channel, ChannelSample{value});
+            const Ray ray = pass.sensor.generateRay(p, u0, u1);
+            ChannelSample sample = Li(map, ray, pass.channel, medium, rng, tileStats);
+            poolByEntry(sample, scene_, ray, scene_.geometry->intersect(ray), pass.channel, medium);
+            film.add(share.filmPixel(i), pass.channel, sample);
         });
     }
 }

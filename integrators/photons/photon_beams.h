@@ -16,8 +16,8 @@
 //    the beams near that path, with the kernel radius of the iteration.
 // The radius shrinks with the kernel's dimensions (progressive_radius.h),
 // so the bias vanishes as iterations go on; a pixel's reported error is the
-// spread of its iterations, which does not see the remaining bias (bench
-// against a reference measures both). Separate channel passes only.
+// spread of its iterations and the bias each iteration sees between its
+// radius and half of it (two_radii.h). Separate channel passes only.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +29,7 @@
 #include "integrators/integrator.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"
+#include "integrators/photons/two_radii.h"
 #include "integrators/volpath/volpath.h"
 
 namespace pl {
@@ -90,11 +91,11 @@ private:
 class BeamSum {
 public:
     void clear() { terms_.clear(); }
-    void add(uint32_t beam, double value) { terms_.push_back({beam, value}); }
-    double total();
+    void add(uint32_t beam, const TwoRadii& value) { terms_.push_back({beam, value}); }
+    TwoRadii total();
 
 private:
-    std::vector<std::pair<uint32_t, double>> terms_;
+    std::vector<std::pair<uint32_t, TwoRadii>> terms_;
 };
 
 // The short-beam estimators' common part: the beams of each iteration and
@@ -114,9 +115,10 @@ public:
     float radiusAt_mm(uint32_t iteration) const;
     // The beams of sample `sample` in a channel.
     PhotonBeamMap traceBeams(int channel, uint32_t sample, PathStats& stats) const;
-    // The radiance arriving along -ray.d at ray.o (a ray from outside).
-    virtual float Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-                     PathStats& stats) const = 0;
+    // The radiance arriving along -ray.d at ray.o (a ray from outside),
+    // with the kernel's bias.
+    virtual ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
+                             PathStats& stats) const = 0;
 
 protected:
     // A camera path's walk: volpath's, ending at the first real collision.
@@ -127,7 +129,7 @@ protected:
     }
     // The gathered radiance inside, in the path tracers' unit (photons
     // carry the radiance inside, n^2 times theirs).
-    float insideToOutside() const { return 1.0f / (scene_.ior * scene_.ior); }
+    double insideToOutside() const { return 1.0 / (double(scene_.ior) * scene_.ior); }
 
     const Scene& scene_;
 

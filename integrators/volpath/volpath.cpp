@@ -34,16 +34,7 @@ ChannelSample VolPath::Li(Ray ray, int channel, LabelMedium::Tracker& medium, Rn
     const std::optional<SurfaceHit> entry = scene_.geometry->intersect(ray);
     ChannelSample sample{
         traceOneChannel(scene_, channel, [&](auto path) { return trace(ray, path, medium, rng, stats, &entry); })};
-    // A sample is Le or 0 (or a roulette weight): a pixel's few samples are
-    // often all equal, and their spread then says nothing. There its error
-    // is the second moment pooled over the samples entering the same
-    // label (Film, ChannelSample::poolWhereFlat).
-    if (entry && dot(ray.d, entry->ng) < 0) {
-        const Point3f inside = entry->p - entry->ng * scene_.geometry->rayEpsilon_mm();
-        sample.poolKey = entryPoolKey(channel, medium.labelAt(scene_.medium->voxelAt(inside)));
-        sample.residual = sample.value;
-        sample.poolWhereFlat = true;
-    }
+    poolByEntry(sample, scene_, ray, entry, channel, medium);
     return sample;
 }
 
