@@ -18,8 +18,8 @@ namespace {
 constexpr float kLeastSin2 = 1e-6f;
 }  // namespace
 
-ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-               PathStats& stats) const {
+ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium,
+                       Rng& rng, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
     TwoRadii gathered;

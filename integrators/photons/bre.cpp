@@ -134,7 +134,8 @@ Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, floa
     return {sum, cut ? 0.0f : float(std::exp(-tau))};
 }
 
-ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel, LabelMedium::Tracker& medium) const {
+ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel,
+                          LabelMedium::Tracker& medium) const {
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
     const std::optional<SurfaceHit> entry = geometry.intersect(cameraRay);
@@ -174,7 +175,8 @@ void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressB
             const size_t p = share.pixel(i);
             Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
             const float u0 = rng.uniform(), u1 = rng.uniform();
-            film.add(share.filmPixel(i), pass.channel, gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium));
+            const ChannelSample sample = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
+            film.add(share.filmPixel(i), pass.channel, sample);
             ++tileStats.paths;
         });
     }

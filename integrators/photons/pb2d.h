@@ -27,7 +27,7 @@ public:
     static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
     ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-             PathStats& stats) const override;
+                     PathStats& stats) const override;
 };
 
 }  // namespace pl

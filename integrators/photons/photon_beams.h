@@ -117,8 +117,8 @@ public:
     PhotonBeamMap traceBeams(int channel, uint32_t sample, PathStats& stats) const;
     // The radiance arriving along -ray.d at ray.o (a ray from outside),
     // with the kernel's bias.
-    virtual ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-                             PathStats& stats) const = 0;
+    virtual ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium,
+                             Rng& rng, PathStats& stats) const = 0;
 
 protected:
     // A camera path's walk: volpath's, ending at the first real collision.

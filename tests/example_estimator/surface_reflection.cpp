@@ -41,7 +41,8 @@ RGB SurfaceReflection::mirrored(const Ray& ray, PathStats& stats) const {
     const std::optional<SurfaceHit> hit = scene_.geometry->intersect(ray);
     if (!hit) return scene_.environment;
     const float cosTheta = std::abs(dot(ray.d, hit->ns));
-    const float reflectance = fresnel_ == FresnelFactor::Schlick ? schlick(cosTheta, scene_.ior) : fresnelDielectric(cosTheta, scene_.ior);
+    const float reflectance =
+        fresnel_ == FresnelFactor::Schlick ? schlick(cosTheta, scene_.ior) : fresnelDielectric(cosTheta, scene_.ior);
     RGB L = scene_.environment;
     for (float& v : L) v *= reflectance;
     return L;

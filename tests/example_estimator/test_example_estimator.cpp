@@ -96,7 +96,8 @@ TEST(ExampleEstimator, ItsKeyReachesItFromTheSceneFile) {
     const Point3f onTop{centre.x, centre.y, box.hi.z};
     const Ray ray{onTop - d * 5.0f, d};
     auto mirrored = [&](const RenderSettings& settings) {
-        const std::unique_ptr<Integrator> estimator = integratorKindOf(settings).factory.create(scene, sensor, settings);
+        const std::unique_ptr<Integrator> estimator =
+            integratorKindOf(settings).factory.create(scene, sensor, settings);
         LabelMedium::Tracker medium(*scene.medium);
         Rng rng(1, 2);
         PathStats stats;
@@ -121,9 +122,8 @@ TEST(ExampleEstimator, ItsKeyIsCheckedAndWrittenBack) {
         parseScene(exampleScene("typo", R"(, "fresnell": "schlick")"));
         ADD_FAILURE() << "a misspelt key was taken";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("'render.fresnell' not an option of surface_reflection (its options: fresnel)"),
-                  std::string::npos)
-            << e.what();
+        const std::string expected = "'render.fresnell' not an option of surface_reflection (its options: fresnel)";
+        EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
     EXPECT_THROW(parseScene(exampleScene("unknown", R"(, "fresnel": "snell")")), InputError);
     EXPECT_THROW(parseScene(exampleScene("number", R"(, "fresnel": 1)")), InputError);
