@@ -45,9 +45,10 @@ class ImageNeighbourhood;
 //  - bias: the sample's own estimate of its value's bias, which no number
 //    of samples averages out (a kernel estimator's, from two radii). The
 //    pixel's shared error adds the bias their mean shows beyond its own
-//    noise: sqrt(mean^2 - its variance), an unbiased estimate of the
-//    squared bias, so that the error squared estimates the mean squared
-//    error.
+//    noise, sqrt(max(0, mean^2 - variance of the mean)): the difference is
+//    an unbiased estimate of the squared bias, so that the error squared
+//    estimates the mean squared error. Samples of one pixel come through
+//    add(pixel, channel, ChannelSample) alike.
 struct ChannelSample {
     float value = 0.0f;
     float sharedError = 0.0f;
@@ -83,8 +84,8 @@ public:
         addGroup(pixel, channel, sample.value, 1);
         Accumulator& a = acc_[channel][pixel];
         a.sharedErrorSum += sample.sharedError;
-        if (sample.bias != 0.0f || a.biasM2 != 0.0f || a.biasMean != 0.0f) {
-            // Welford over all the pixel's samples (those before had none).
+        {
+            // Welford over the pixel's samples (a bias of 0 keeps both at 0).
             const float d = sample.bias - a.biasMean;
             a.biasMean += d / float(a.count);
             a.biasM2 += d * (sample.bias - a.biasMean);
@@ -177,7 +178,8 @@ public:
     }
     // The part of the mean's error that its samples share with others (a
     // bound: the mean of the samples' shared errors, as if all came from
-    // one estimated quantity). Pixels that used the same one share it too.
+    // one estimated quantity), and the bias their own estimates show
+    // (ChannelSample::bias). Pixels that used the same one share it too.
     float sharedError(size_t pixel, int channel) const {
         return settled(channel) ? settledValues_[channel][pixel].sharedError : sharedError(acc_[channel][pixel]);
     }

@@ -80,11 +80,12 @@ inline Ray enteringRay(const Scene& scene, const Ray& camera, const SurfaceHit& 
 inline int32_t entryPoolKey(int channel, Label entryLabel) {
     return (int32_t(1) << 24) + int32_t(channel) * 256 + int32_t(entryLabel);
 }
-// Pools a sample without a control over the samples that enter the same
-// label where a pixel's samples are all equal: a walk's sample is Le or 0
-// (or a roulette weight), a kernel's 0 where no photon came near, and a
-// pixel's few samples' spread then says nothing (Film,
-// ChannelSample::poolWhereFlat). `entry` is the camera ray's first hit.
+// Keys a sample without a control by the label its camera ray enters, so
+// that a pixel whose samples are all equal takes the variance pooled over
+// that key (Film, ChannelSample::poolWhereFlat): a walk's sample is Le or
+// 0 (or a roulette weight), a kernel's 0 where no photon came near, and a
+// pixel's few equal samples' spread says nothing. `entry`: the camera
+// ray's first hit.
 inline void poolByEntry(ChannelSample& sample, const Scene& scene, const Ray& ray,
                         const std::optional<SurfaceHit>& entry, int channel, LabelMedium::Tracker& medium) {
     if (!entry || !(dot(ray.d, entry->ng) < 0)) return;

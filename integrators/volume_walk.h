@@ -13,10 +13,9 @@
 //    gather).
 #pragma once
 
-#include <type_traits>
-
 #include <cstdint>
 #include <optional>
+#include <type_traits>
 
 #include "core/fresnel.h"
 #include "core/sampling.h"

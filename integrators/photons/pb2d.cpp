@@ -21,7 +21,8 @@ ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, La
     // walks on as volpath's.
     const float reach_mm = map.radius_mm() + scene_.geometry->surfaceLift_mm();
     auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
-        const bool clear = scene_.clearance->at(x) >= reach_mm || !scene_.geometry->closestPoint(x, reach_mm);
+        const bool clear = (scene_.clearance && scene_.clearance->at(x) >= reach_mm) ||
+                           !scene_.geometry->closestPoint(x, reach_mm);
         if (!clear) return false;
         thread_local BeamSum sum;
         sum.clear();

@@ -9,9 +9,9 @@
 // with K2 the biweight kernel over the disc across the beam,
 // 3 / (pi r^2) (1 - d^2 / r^2)^2; the light its walk brought out before
 // is volpath's. Nearer the boundary the disc would reach past it, where no
-// beam lies: gathered at the first collision, the estimate came out 30-50 %
-// low on slabs whose mean free path is a tenth of the radius. The radius'
-// square shrinks as (i + alpha) / (i + 1).
+// beam lies, and the estimate falls short (30-50 % on slabs whose mean free
+// path is a tenth of the radius, gathering at the first collision). The
+// radius' square shrinks as (i + alpha) / (i + 1).
 #pragma once
 
 #include "integrators/photons/photon_beams.h"

@@ -10,10 +10,12 @@
 //    transmittance along it (UPBP's short beams; Brecka 2021, 3.7.1):
 //    nothing is tracked at query time, which is what makes beams cheap
 //    in a halftone, where every transmittance is a walk over voxels;
-//  - every pixel's camera ray walks the same way up to its first real
-//    collision (the environment reflected at the entry or seen straight
-//    through counts as volpath's), and the estimator (pb2d, bb1d) gathers
-//    the beams near that path, with the kernel radius of the iteration.
+//  - every pixel's camera ray walks the same way (the environment
+//    reflected at the entry or seen straight through, and what the walk
+//    brings out, counts as volpath's), and the estimator gathers the beams
+//    near that path with the kernel radius of the iteration: pb2d at its
+//    first collision at least the radius from the boundary, bb1d along its
+//    flights up to its first collision.
 // The radius shrinks with the kernel's dimensions (progressive_radius.h),
 // so the bias vanishes as iterations go on; a pixel's reported error is the
 // spread of its iterations and the bias each iteration sees between its
@@ -121,7 +123,7 @@ public:
                              Rng& rng, PathStats& stats) const = 0;
 
 protected:
-    // A camera path's walk: volpath's, ending at the first real collision.
+    // bb1d's camera walk: volpath's, ending at the first real collision.
     static VolPathOptions cameraWalk() {
         VolPathOptions o;
         o.maxDepth = 0;

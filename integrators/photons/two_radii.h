@@ -13,6 +13,8 @@
 // disc stays inside (docs/particle-methods.md, "Their errors").
 #pragma once
 
+#include <cmath>
+
 #include "core/film.h"
 #include "core/vecmath.h"
 

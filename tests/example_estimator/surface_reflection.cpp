@@ -1,5 +1,6 @@
 #include "surface_reflection.h"
 
+#include <array>
 #include <cmath>
 
 #include "core/fresnel.h"
