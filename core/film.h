@@ -84,12 +84,10 @@ public:
         addGroup(pixel, channel, sample.value, 1);
         Accumulator& a = acc_[channel][pixel];
         a.sharedErrorSum += sample.sharedError;
-        {
-            // Welford over the pixel's samples (a bias of 0 keeps both at 0).
-            const float d = sample.bias - a.biasMean;
-            a.biasMean += d / float(a.count);
-            a.biasM2 += d * (sample.bias - a.biasMean);
-        }
+        // Welford over the pixel's samples (a bias of 0 keeps both at 0).
+        const float biasStep = sample.bias - a.biasMean;
+        a.biasMean += biasStep / float(a.count);
+        a.biasM2 += biasStep * (sample.bias - a.biasMean);
         // A surface voxel's samples share its entry: the first key stands
         // for all. A camera pixel's may not (entries into other labels,
         // rays that miss): its residuals then do not hold its error, and it

@@ -18,8 +18,8 @@ namespace {
 constexpr float kLeastSin2 = 1e-6f;
 }  // namespace
 
-ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium,
-                       Rng& rng, PathStats& stats) const {
+ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+                       int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
     TwoRadii gathered;
@@ -51,7 +51,7 @@ ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, La
     SingleChannelPath path{&lut, channel, scene_.environment[channel]};
     const float escaped =
         walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats, onFlight,
-                   [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {});
+                   [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {}, &entry);
     return kernelSample(escaped, gathered * insideToOutside());
 }
 

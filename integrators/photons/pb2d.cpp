@@ -10,8 +10,8 @@ std::unique_ptr<Integrator> Pb2d::create(const Scene& scene, const Sensor& senso
     return std::make_unique<Pb2d>(scene, sensor, readOptions(beamParameters(), s.parameters), s.majorants, s.seed);
 }
 
-ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium,
-                       Rng& rng, PathStats& stats) const {
+ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+                       int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
     TwoRadii gathered;
@@ -42,7 +42,7 @@ ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, int channel, La
     };
     SingleChannelPath path{&lut, channel, scene_.environment[channel]};
     const float escaped = walkVolume(scene_, VolPathOptions{}, /*reentry=*/false, ray, path, medium, rng, stats,
-                                     [](const Ray&, float, const SingleChannelPath&) {}, onCollision);
+                                     [](const Ray&, float, const SingleChannelPath&) {}, onCollision, &entry);
     return kernelSample(escaped, gathered * insideToOutside());
 }
 

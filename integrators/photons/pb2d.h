@@ -26,8 +26,8 @@ public:
     static std::string refusal(const RenderSettings& settings) { return refusalWithoutReentry("pb2d", settings); }
     static std::unique_ptr<Integrator> create(const Scene& scene, const Sensor& sensor, const RenderSettings& settings);
 
-    ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium, Rng& rng,
-                     PathStats& stats) const override;
+    ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry, int channel,
+                     LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const override;
 };
 
 }  // namespace pl

@@ -115,8 +115,9 @@ void PhotonBeamEstimator::render(const RenderPass& pass, Film& film, PathStats& 
             Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
             const float u0 = rng.uniform(), u1 = rng.uniform();
             const Ray ray = pass.sensor.generateRay(p, u0, u1);
-            ChannelSample sample = Li(map, ray, pass.channel, medium, rng, tileStats);
-            poolByEntry(sample, scene_, ray, scene_.geometry->intersect(ray), pass.channel, medium);
+            const std::optional<SurfaceHit> entry = scene_.geometry->intersect(ray);
+            ChannelSample sample = Li(map, ray, entry, pass.channel, medium, rng, tileStats);
+            poolByEntry(sample, scene_, ray, entry, pass.channel, medium);
             film.add(share.filmPixel(i), pass.channel, sample);
         });
     }

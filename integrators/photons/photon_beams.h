@@ -118,9 +118,9 @@ public:
     // The beams of sample `sample` in a channel.
     PhotonBeamMap traceBeams(int channel, uint32_t sample, PathStats& stats) const;
     // The radiance arriving along -ray.d at ray.o (a ray from outside),
-    // with the kernel's bias.
-    virtual ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium,
-                             Rng& rng, PathStats& stats) const = 0;
+    // with the kernel's bias; `entry`: where the ray meets the object, or none.
+    virtual ChannelSample Li(const PhotonBeamMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+                             int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const = 0;
 
 protected:
     // bb1d's camera walk: volpath's, ending at the first real collision.
