@@ -8,6 +8,7 @@
 #include "integrators/learned/learned.h"
 #include "integrators/lighttrace/lighttrace.h"
 #include "integrators/photons/pb2d.h"
+#include "integrators/photons/pp3d.h"
 #include "integrators/printpt/printpt.h"
 #include "integrators/volpath/volpath.h"
 
@@ -22,6 +23,7 @@ std::deque<IntegratorKind>& kinds() {
         {"diffusion", factoryOf<Diffusion>()},
         {"learned", factoryOf<Learned>()},
         {"bre", factoryOf<Bre>()},
+        {"pp3d", factoryOf<Pp3d>()},
         {"pb2d", factoryOf<Pb2d>()},
         {"bb1d", factoryOf<Bb1d>()},
     };

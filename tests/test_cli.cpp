@@ -473,7 +473,7 @@ TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
 // about 50 per photon in white resin: an iteration that outgrows the memory
 // stops with an error that says so (after the summary line), and writes nothing.
 TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
-    for (const char* estimator : {"bre", "pb2d", "bb1d"}) {
+    for (const char* estimator : {"bre", "pp3d", "pb2d", "bb1d"}) {
         TestScene s(std::string("photons_") + estimator);
         // About 250 MiB in use once the scene is loaded: room for ~1e6 photons'
         // items, which white's red channel outgrows within a few per cent of its photons.
@@ -485,9 +485,10 @@ TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
         EXPECT_EQ(r.exitCode, 1) << r.err;
         EXPECT_NE(r.err.find("printlight: error: one iteration's photons outgrow the memory ("), std::string::npos)
             << r.err;
-        EXPECT_NE(r.err.find(std::string(estimator) == "bre" ? "lower bre_photons_per_pixel"
-                                                             : "lower beams_photons_per_pixel"),
-                  std::string::npos)
+        const std::string name = estimator;
+        const std::string remedy = name == "bre" || name == "pp3d" ? "lower " + name + "_photons_per_pixel"
+                                                                   : "lower beams_photons_per_pixel";
+        EXPECT_NE(r.err.find(remedy), std::string::npos)
             << r.err;
         EXPECT_FALSE(s.anyOutput()) << "output written despite the error";
     }

@@ -52,7 +52,7 @@ ChannelSample Bb1d::Li(const PhotonBeamMap& map, const Ray& ray, const std::opti
     const float escaped =
         walkVolume(scene_, cameraWalk(), /*reentry=*/false, ray, path, medium, rng, stats, onFlight,
                    [](const Point3f&, const Vec3f&, Label, const SingleChannelPath&) {}, &entry);
-    return kernelSample(escaped, gathered * insideToOutside());
+    return kernelSample(escaped, gathered * insideToOutside(scene_));
 }
 
 }  // namespace pl

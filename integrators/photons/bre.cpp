@@ -6,6 +6,7 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "integrators/photons/photon_iterations.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"
 #include "integrators/render_settings.h"
@@ -33,27 +34,7 @@ constexpr float kCutOffOpticalDepth = 4.6051702f;  // ln 100
 // Straight segments a query follows inside (each internal reflection
 // starts one) before it stops; the weight left by then is F^16 at most.
 constexpr int kMostSegments = 16;
-// Bytes a photon takes while its iteration's map is built (the photon in
-// its part and in the map, its grid entry and its place in the grid).
-constexpr uint64_t kPhotonBytes = 2 * sizeof(PhotonMap::Photon) + 16 + 4;
-
-Point3f lowestCorner(const std::vector<PhotonMap::Photon>& photons) {
-    Point3f lo{1e30f, 1e30f, 1e30f};
-    for (const PhotonMap::Photon& ph : photons)
-        for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], ph.p[a]);
-    return photons.empty() ? Point3f{0, 0, 0} : lo;
-}
 }  // namespace
-
-PhotonMap::PhotonMap(std::vector<Photon> photons, float radius_mm)
-    : radius_mm_(radius_mm), grid_(radius_mm, lowestCorner(photons)) {
-    std::vector<std::pair<uint64_t, uint32_t>> entries(photons.size());
-    for (size_t i = 0; i < photons.size(); ++i) entries[i] = {grid_.keyOf(grid_.cellOf(photons[i].p)), uint32_t(i)};
-    grid_.fill(std::move(entries));
-    // Stored in the grid's order: a cell's photons lie together.
-    photons_.resize(grid_.entries());
-    for (size_t i = 0; i < photons_.size(); ++i) photons_[i] = photons[grid_.itemAt(i)];
-}
 
 Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed)
     : scene_(scene),
@@ -75,13 +56,7 @@ std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor
 float Bre::radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
 
 PhotonMap Bre::tracePhotons(int channel, uint32_t sample, PathStats& stats) const {
-    const double power = photons_.powerEach(channel);
-    // Stored at every real collision with the power after the albedo.
-    std::vector<PhotonMap::Photon> photons = photons_.trace<PhotonMap::Photon>(
-        channel, sample, stats, [](std::vector<PhotonMap::Photon>&, const Ray&, float, const SingleChannelPath&) {},
-        [&](std::vector<PhotonMap::Photon>& stored, const Point3f& y, const Vec3f& dIn, Label label,
-            const SingleChannelPath& p) { stored.push_back({y, dIn, float(power * double(p.beta)), label}); });
-    return PhotonMap(std::move(photons), radiusAt_mm(sample + 1));
+    return tracePhotonPoints(photons_, channel, sample, radiusAt_mm(sample + 1), stats);
 }
 
 Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, float tEnd_mm, int channel,
@@ -134,25 +109,22 @@ Bre::SegmentGather Bre::gatherSegment(const PhotonMap& map, const Ray& ray, floa
     return {sum, cut ? 0.0f : float(std::exp(-tau))};
 }
 
-ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channel,
-                          LabelMedium::Tracker& medium) const {
+ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, const std::optional<SurfaceHit>& entry,
+                          int channel, LabelMedium::Tracker& medium) const {
     const Geometry& geometry = *scene_.geometry;
     const float Le = scene_.environment[channel];
-    const std::optional<SurfaceHit> entry = geometry.intersect(cameraRay);
     if (!entry) return ChannelSample{Le};
     const Vec3f n = dot(cameraRay.d, entry->ng) < 0 ? entry->ns : -entry->ns;
     const float F = fresnelDielectric(-dot(cameraRay.d, n), scene_.ior);
     double L = double(F) * Le;  // what comes without the kernel
     TwoRadii gathered;
-    // The radiance inside, in the path tracers' unit: over n^2.
-    const double insideToOutside = 1.0 / (double(scene_.ior) * scene_.ior);
     double beta = 1.0 - F;
     Ray ray = enteringRay(scene_, cameraRay, *entry);
     for (int segment = 0; segment < kMostSegments && beta > 1e-6; ++segment) {
         const std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
         if (!exit) break;  // a numerical leak
         const SegmentGather g = gatherSegment(map, ray, exit->t, channel, medium);
-        gathered += g.radiance * (beta * insideToOutside);
+        gathered += g.radiance * (beta * insideToOutside(scene_));
         if (!(g.transmittance > 0.0f)) break;
         // The environment straight through the far side, and the rest
         // reflected back inside.
@@ -161,25 +133,17 @@ ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, int channe
         beta *= double(g.transmittance) * Ffar;
         ray = reflectedInside(geometry, ray.d, *exit);
     }
-    ChannelSample sample = kernelSample(L, gathered);
-    poolByEntry(sample, scene_, cameraRay, entry, channel, medium);
-    return sample;
+    return kernelSample(L, gathered);
 }
 
 void Bre::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
-    if (pass.channel < 0) throw std::logic_error("bre renders one channel per pass");
-    const PixelShare& share = pass.share;
-    for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
-        const PhotonMap map = tracePhotons(pass.channel, s, stats);
-        renderPixelTiles(pass, stats, progress, 1, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
-            const size_t p = share.pixel(i);
-            Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
-            const float u0 = rng.uniform(), u1 = rng.uniform();
-            const ChannelSample sample = gather(map, pass.sensor.generateRay(p, u0, u1), pass.channel, medium);
-            film.add(share.filmPixel(i), pass.channel, sample);
+    renderPhotonIterations(
+        pass, film, stats, progress, "bre", [&](uint32_t s) { return tracePhotons(pass.channel, s, stats); },
+        [&](const PhotonMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+            LabelMedium::Tracker& medium, Rng&, PathStats& tileStats) {
             ++tileStats.paths;
+            return gather(map, ray, entry, pass.channel, medium);
         });
-    }
 }
 
 }  // namespace pl

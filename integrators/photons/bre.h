@@ -27,8 +27,8 @@
 #include <vector>
 
 #include "core/option_table.h"
-#include "integrators/photons/cell_grid.h"
 #include "integrators/integrator.h"
+#include "integrators/photons/photon_map.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"
 #include "integrators/photons/two_radii.h"
@@ -48,35 +48,6 @@ struct BreOptions {
 // Its options by their scene-file names (core/option_table.h).
 const std::vector<OptionParameter<BreOptions>>& breParameters();
 
-// The photons of one iteration in one channel, filed by the cell of a
-// grid whose side is the kernel radius: a query visits the cells within
-// one cell of the cells its segment crosses.
-class PhotonMap {
-public:
-    struct Photon {
-        Point3f p;
-        Vec3f dIn;     // propagation direction before the scattering
-        float power;   // after the albedo
-        Label label;   // where it scattered (its phase function)
-    };
-    PhotonMap(std::vector<Photon> photons, float radius_mm);
-    float radius_mm() const { return radius_mm_; }
-    size_t size() const { return photons_.size(); }
-    // Calls f(photon) for every photon within one cell of a cell that
-    // ray.at([0, tMax_mm]) crosses, each once, in a fixed order.
-    template <class F>
-    void forEachNear(const Ray& ray, float tMax_mm, F&& f) const {
-        thread_local std::vector<uint64_t> keys;
-        grid_.cellsNear(ray, tMax_mm, keys);
-        grid_.forEachItem(keys, [&](size_t position, uint32_t) { f(photons_[position]); });
-    }
-
-private:
-    std::vector<Photon> photons_;  // in the grid's order
-    float radius_mm_;
-    CellGrid grid_;
-};
-
 class Bre : public Integrator {
 public:
     Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants majorants, uint64_t seed);
@@ -93,9 +64,11 @@ public:
     float radiusAt_mm(uint32_t iteration) const;
     // The photons of sample `sample` in a channel.
     PhotonMap tracePhotons(int channel, uint32_t sample, PathStats& stats) const;
-    // The radiance arriving along -ray.d at ray.o, gathered from the map,
+    // The radiance arriving along -ray.d at ray.o (a ray from outside;
+    // entry: where it meets the object, or none), gathered from the map,
     // with the kernel's bias (integrators/photons/two_radii.h).
-    ChannelSample gather(const PhotonMap& map, const Ray& ray, int channel, LabelMedium::Tracker& medium) const;
+    ChannelSample gather(const PhotonMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+                         int channel, LabelMedium::Tracker& medium) const;
 
 private:
     // The photons gathered along one straight segment inside, from its

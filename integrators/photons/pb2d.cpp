@@ -1,8 +1,8 @@
 #include "integrators/photons/pb2d.h"
 
 #include "core/sampling.h"
+#include "integrators/photons/clear_gather.h"
 #include "integrators/render_settings.h"
-#include "integrators/volume_walk.h"
 
 namespace pl {
 
@@ -14,16 +14,7 @@ ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, const std::opti
                        int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
     const float r2 = map.radius_mm() * map.radius_mm();
-    TwoRadii gathered;
-    // Only where the kernel's disc cannot reach past the boundary (no beam
-    // lies beyond it: a disc cut there would miss their share): the block's
-    // clearance, or else the nearest surface point; elsewhere the path
-    // walks on as volpath's.
-    const float reach_mm = map.radius_mm() + scene_.geometry->surfaceLift_mm();
-    auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
-        const bool clear = (scene_.clearance && scene_.clearance->at(x) >= reach_mm) ||
-                           !scene_.geometry->closestPoint(x, reach_mm);
-        if (!clear) return false;
+    auto gatherAt = [&](const Point3f& x, const Vec3f& dIn, Label label) {
         thread_local BeamSum sum;
         sum.clear();
         const float g = lut.g[label];
@@ -37,13 +28,9 @@ ChannelSample Pb2d::Li(const PhotonBeamMap& map, const Ray& ray, const std::opti
             if (!(d2 < r2)) return;
             sum.add(i, discBiweight(d2, r2) * (hgPhase(dot(b.d, -dIn), g) * double(b.power)));
         });
-        gathered += sum.total() * double(path.beta);
-        return true;
+        return sum.total();
     };
-    SingleChannelPath path{&lut, channel, scene_.environment[channel]};
-    const float escaped = walkVolume(scene_, VolPathOptions{}, /*reentry=*/false, ray, path, medium, rng, stats,
-                                     [](const Ray&, float, const SingleChannelPath&) {}, onCollision, &entry);
-    return kernelSample(escaped, gathered * insideToOutside());
+    return gatherWhereClear(scene_, map.radius_mm(), ray, entry, channel, medium, rng, stats, gatherAt);
 }
 
 }  // namespace pl

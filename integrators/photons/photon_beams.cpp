@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "integrators/photons/photon_iterations.h"
 #include "runtime/memory_budget.h"
 
 namespace pl {
@@ -106,21 +107,13 @@ PhotonBeamMap PhotonBeamEstimator::traceBeams(int channel, uint32_t sample, Path
 }
 
 void PhotonBeamEstimator::render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const {
-    if (pass.channel < 0) throw std::logic_error("the photon beam estimators render one channel per pass");
-    const PixelShare& share = pass.share;
-    for (uint32_t s = pass.firstSample; s < pass.firstSample + pass.count; ++s) {
-        const PhotonBeamMap map = traceBeams(pass.channel, s, stats);
-        renderPixelTiles(pass, stats, progress, 1, [&](size_t i, LabelMedium::Tracker& medium, PathStats& tileStats) {
-            const size_t p = share.pixel(i);
-            Rng rng = Rng::forPath(pass.seed, p, s, uint64_t(pass.channel));
-            const float u0 = rng.uniform(), u1 = rng.uniform();
-            const Ray ray = pass.sensor.generateRay(p, u0, u1);
-            const std::optional<SurfaceHit> entry = scene_.geometry->intersect(ray);
-            ChannelSample sample = Li(map, ray, entry, pass.channel, medium, rng, tileStats);
-            poolByEntry(sample, scene_, ray, entry, pass.channel, medium);
-            film.add(share.filmPixel(i), pass.channel, sample);
+    renderPhotonIterations(
+        pass, film, stats, progress, "photon beams",
+        [&](uint32_t s) { return traceBeams(pass.channel, s, stats); },
+        [&](const PhotonBeamMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry,
+            LabelMedium::Tracker& medium, Rng& rng, PathStats& tileStats) {
+            return Li(map, ray, entry, pass.channel, medium, rng, tileStats);
         });
-    }
 }
 
 }  // namespace pl

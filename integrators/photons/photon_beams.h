@@ -129,9 +129,6 @@ protected:
         o.maxDepth = 0;
         return o;
     }
-    // The gathered radiance inside, in the path tracers' unit (photons
-    // carry the radiance inside, n^2 times theirs).
-    double insideToOutside() const { return 1.0 / (double(scene_.ior) * scene_.ior); }
 
     const Scene& scene_;
 

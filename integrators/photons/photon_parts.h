@@ -31,6 +31,10 @@ namespace pl {
 
 constexpr size_t kPhotonParts = 64;
 
+// What photons gather is the radiance inside, n^2 times the path tracers'
+// unit: this turns it into theirs.
+inline double insideToOutside(const Scene& scene) { return 1.0 / (double(scene.ior) * scene.ior); }
+
 class PhotonSource {
 public:
     // photonsPerPixel x pixelCount photons an iteration (one at least),

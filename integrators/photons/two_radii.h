@@ -45,6 +45,17 @@ inline TwoRadii discBiweight(double d2, double r2) {
     return {at(r2), at(0.25 * r2)};
 }
 
+// The biweight over a ball of radius r (unit integral: 105 / (32 pi r^3)
+// (1 - d^2 / r^2)^2), at squared distance d2 from its centre, at r and r / 2.
+inline TwoRadii ballBiweight(double d2, double r2) {
+    auto at = [&](double radius2) {
+        if (!(d2 < radius2)) return 0.0;
+        const double w = 1.0 - d2 / radius2;
+        return 105.0 / (32.0 * kPi * radius2 * std::sqrt(radius2)) * w * w;
+    };
+    return {at(r2), at(0.25 * r2)};
+}
+
 // The biweight integrated along a line across a ball of radius r: 16 / (5
 // pi r) (1 - d^2 / r^2)^(5/2) at distance d from the line, at r and r / 2.
 inline TwoRadii lineBiweight(double d2, double r) {
