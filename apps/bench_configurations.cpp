@@ -39,6 +39,9 @@ const std::vector<std::pair<const char*, const char*>> kVariants = {
     // The textbook tracker: one majorant for the whole grid instead of one per brick.
     {"volpath-global-majorant", "volpath/majorants=global"},
     {"printpt-global-majorant", "printpt/majorants=global"},
+    // Decomposition tracking: each brick's least extinction sampled analytically.
+    {"volpath-decomposition", "volpath/majorants=decomposition"},
+    {"printpt-decomposition", "printpt/majorants=decomposition"},
     // Three channels: one pass per channel, or one path for all three.
     {"volpath-separate", "volpath/channel_sampling=separate"},
     {"volpath-hero", "volpath/channel_sampling=hero"},

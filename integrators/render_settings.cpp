@@ -18,4 +18,11 @@ const std::vector<OptionParameter<RenderSettings>>& renderParameters() {
     return parameters;
 }
 
+std::string majorantsRefusal(const RenderSettings& settings) {
+    const bool threeInOnePath = settings.channelSampling != ChannelSampling::Separate && settings.channels.size() == 3;
+    if (settings.majorants == Majorants::Decomposition && threeInOnePath)
+        return "decomposition tracks one channel a flight: with channel_sampling 'separate' only";
+    return "";
+}
+
 }  // namespace pl

@@ -33,8 +33,9 @@ struct RenderSettings {
     // How all three channels are sampled (a subset is always one pass per
     // channel). Separate passes won on the test set (docs/performance.md).
     ChannelSampling channelSampling = ChannelSampling::Separate;
-    // Free flights against per-brick majorants, or the textbook tracker's
-    // one global majorant (single-channel paths; for measurements).
+    // Free flights against per-brick majorants, the textbook tracker's one
+    // global majorant, or decomposition tracking (the last two for
+    // measurements; media/label_medium.h).
     Majorants majorants = Majorants::PerBrick;
     // The render block's other keys: the estimator's own, which it reads
     // in its factory (its parameters() declare them; render/registry.h).
@@ -46,5 +47,9 @@ struct RenderSettings {
 // names (core/option_table.h); integrator, channel, channel_sampling and
 // majorants are names (render/scene_io).
 const std::vector<OptionParameter<RenderSettings>>& renderParameters();
+
+// Why the settings' majorants cannot serve their channel sampling
+// (decomposition tracking follows one channel a flight), or "".
+std::string majorantsRefusal(const RenderSettings& settings);
 
 }  // namespace pl

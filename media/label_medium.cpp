@@ -1,6 +1,7 @@
 #include "media/label_medium.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "media/collision_events.h"
 
@@ -123,17 +124,29 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
 }
 
 FreeFlight LabelMedium::Tracker::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
+    if (majorants_ == Majorants::Decomposition) {
+        auto& acc = impl_->accessor;
+        const CellRay cellRay = medium_.toCellRay(ray);
+        auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
+            return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), medium_.majorants_, visit);
+        };
+        return sampleDecomposedFlight(cellRay, segments, medium_.luts_[channel], channel,
+                                      [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); },
+                                      rng);
+    }
     DeltaEvents events{medium_.luts_[channel], channel};
     return sampleFlight(ray, tMax_mm, events, rng);
 }
 
 FreeFlight LabelMedium::Tracker::sampleFreeFlightHero(const Ray& ray, float tMax_mm, int hero, Rng& rng,
                                                       RGB& logRatio) {
+    if (majorants_ == Majorants::Decomposition) throw std::logic_error("decomposition tracking follows one channel");
     HeroEvents events{medium_.luts_, hero, logRatio};
     return sampleFlight(ray, tMax_mm, events, rng);
 }
 
 FreeFlight LabelMedium::Tracker::sampleFreeFlightSpectral(const Ray& ray, float tMax_mm, Rng& rng, RGB& weight) {
+    if (majorants_ == Majorants::Decomposition) throw std::logic_error("decomposition tracking follows one channel");
     SpectralEvents events{medium_.luts_, weight};
     return sampleFlight(ray, tMax_mm, events, rng);
 }

@@ -18,12 +18,15 @@
 
 namespace pl {
 
-// What delta tracking samples free flights against: the per-brick
-// majorants (clear resin and void cost little), or one majorant for the
-// whole grid (the textbook tracker, kept to measure the bricks against).
-enum class Majorants { PerBrick, Global };
-inline constexpr std::array<EnumName<Majorants>, 2> kMajorantsNames{
-    {{Majorants::PerBrick, "bricks"}, {Majorants::Global, "global"}}};
+// What the null-collision trackers sample free flights against: the
+// per-brick majorants (clear resin and void cost little), one majorant for
+// the whole grid (the textbook tracker, kept to measure the bricks
+// against), or per brick a control and a residual (decomposition
+// tracking, trackers.h; one channel a flight: separate channel passes).
+enum class Majorants { PerBrick, Global, Decomposition };
+inline constexpr std::array<EnumName<Majorants>, 3> kMajorantsNames{{{Majorants::PerBrick, "bricks"},
+                                                                     {Majorants::Global, "global"},
+                                                                     {Majorants::Decomposition, "decomposition"}}};
 
 // A label a path looked up (MajorantGrid::voxelKey) and how much of it
 // the path used. At a null collision in channel c the path only learnt

@@ -5,6 +5,9 @@
 //    tracker); how the channels a path carries decide each tentative
 //    collision (delta, hero or spectral tracking) is the events policy's
 //    (media/collision_events.h).
+//  - sampleDecomposedFlight: decomposition tracking over the same segments
+//    (one channel): each brick's least extinction sampled analytically,
+//    the rest by delta tracking.
 //  - regularTrack: exact transmittance by 3D-DDA through the voxels
 //    (Amanatides-Woo), skipping void bricks and stepping whole uniform bricks.
 //  - inverseTrack: the free flight whose optical depth is a given value
@@ -181,6 +184,62 @@ PL_ALWAYS_INLINE inline FreeFlight sampleMajorantFlight(const CellRay& ray, ForE
                 return true;
             }
         }
+    });
+}
+
+// Decomposition tracking (Kutz et al. 2017) for one channel: in each
+// majorant segment sigma_t = sigma_c + sigma_r, the control sigma_c the
+// segment's least extinction and the residual sigma_r >= 0 the rest. A
+// flight through the control is sampled analytically, and a collision with
+// it is real whatever the label; the residual's by delta tracking against
+// (largest - least), each tentative collision real with probability
+// sigma_r / (largest - least). The flight ends at the nearer of the two
+// (the sum of two independent exponential processes is the medium's), and
+// both optical depths left over carry into the next segment. Every event
+// but the control's needs the label, as delta tracking's does; it saves
+// the control's share of the accept-or-reject draws.
+template <class ForEachSegment, class LabelLookup>
+PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, ForEachSegment&& forEachSegment,
+                                                          const ChannelLut& lut, int channel, LabelLookup&& labelAt,
+                                                          Rng& rng) {
+    float controlLeft = -1.0f, residualLeft = -1.0f;  // optical depths left (< 0: draw a new one)
+    return forEachSegment([&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
+        const float least = segment.bounds->minSigmaT[channel];
+        const float residualMaj = segment.bounds->maxSigmaT[channel] - least;
+        const int sole = segment.bounds->soleLabel;
+        auto labelAtT = [&](float t) PL_ALWAYS_INLINE {
+            return sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
+        };
+        float tControl = std::numeric_limits<float>::infinity();
+        if (least > 0.0f) {
+            if (controlLeft < 0.0f) controlLeft = sampleOpticalDepth(rng.uniform());
+            tControl = segment.tStart + controlLeft / least;
+        }
+        const float tStop = std::min(tControl, segment.tEnd);
+        if (residualMaj > 0.0f) {
+            const float invMaj = 1.0f / residualMaj;
+            for (float t = segment.tStart;;) {
+                if (residualLeft < 0.0f) residualLeft = sampleOpticalDepth(rng.uniform());
+                const float tNext = t + residualLeft * invMaj;
+                if (tNext >= tStop) {
+                    residualLeft -= (tStop - t) * residualMaj;
+                    break;
+                }
+                residualLeft = -1.0f;
+                t = tNext;
+                const Label l = labelAtT(t);
+                if (rng.uniform() * residualMaj < lut.sigmaT_perMm[l] - least) {
+                    out = FreeFlight::collision(t, l);
+                    return true;
+                }
+            }
+        }
+        if (tControl < segment.tEnd) {
+            out = FreeFlight::collision(tControl, labelAtT(tControl));
+            return true;
+        }
+        if (least > 0.0f) controlLeft -= (segment.tEnd - segment.tStart) * least;
+        return false;
     });
 }
 

@@ -60,6 +60,7 @@ std::string refusalOf(const RenderSettings& settings) {
     const IntegratorKind& kind = integratorKindOf(settings);
     if (auto problem = checkParameters(kind.factory.parameters(), settings.parameters, kind.name))
         return "render." + problem->key + ": " + problem->what;
+    if (std::string why = majorantsRefusal(settings); !why.empty()) return "render.majorants: " + why;
     return kind.factory.refusal(settings);
 }
 

@@ -194,6 +194,7 @@ void parseRender(const JsonReader& json, const nlohmann::json& root, const std::
         r.channels = *ch;
         r.channelSampling = json.choice(ren, "channel_sampling", "render", kChannelSamplingNames, r.channelSampling);
         r.majorants = json.choice(ren, "majorants", "render", kMajorantsNames, r.majorants);
+        if (std::string why = majorantsRefusal(r); !why.empty()) json.fail("render.majorants", why);
         if (std::string why = kind->factory.refusal(r); !why.empty()) json.fail("render.integrator", why);
     }
     if (!(capabilitiesOf(r).sensors & sensorKindOf(s)))

@@ -511,12 +511,19 @@ TEST(Cli, UnknownSceneKeysAreTypos) {
     expectCleanFailure(other, other.render(), "scene.json", "render.branches");
 }
 
-TEST(Cli, MajorantsAreBricksOrAGlobalOne) {
+TEST(Cli, MajorantsAreBricksAGlobalOneOrDecomposition) {
     TestScene unknown("majorants_unknown");
     unknown.scene["render"]["majorants"] = "leaf";
     CliRun r = unknown.render();
     expectCleanFailure(unknown, r, "scene.json", "render.majorants");
-    EXPECT_NE(r.err.find("must be bricks or global"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("must be bricks, global or decomposition"), std::string::npos) << r.err;
+    // Decomposition tracking follows one channel a flight.
+    TestScene hero("decomposition_hero");
+    hero.scene["render"]["majorants"] = "decomposition";
+    hero.scene["render"]["channel_sampling"] = "hero";
+    r = hero.render();
+    expectCleanFailure(hero, r, "scene.json", "render.majorants");
+    EXPECT_NE(r.err.find("decomposition tracks one channel a flight"), std::string::npos) << r.err;
 }
 
 // An estimator declares the sensors it takes: the scene is refused before

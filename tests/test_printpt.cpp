@@ -149,6 +149,34 @@ TEST(PrintPt, GlobalMajorantAgreesWithBricks) {
     }
 }
 
+// Decomposition tracking reaches both estimators' walks and renders what
+// per-brick delta tracking does, on a halftone of inks without clear resin
+// (every brick inside has a control, its least extinction, a tenth to a
+// third of its largest). Its flights' distribution and labels are checked
+// in tests/test_tracking.cpp: reflectance hardly sees a scaled extinction
+// (a control 20 % too dense passes here).
+TEST(PrintPt, DecompositionTrackingAgreesWithBricks) {
+    Scene scene = test::boxScene({40, 20, 60}, kPrinterVoxel_mm,
+                                 [](const Vec3i& v) {
+                                     static const Label inks[4] = {0, 1, 3, 4};
+                                     return inks[(v.x / 4 + 2 * (v.y / 3) + 3 * (v.z / 6)) % 4];
+                                 },
+                                 test::mixedResins(), 1.5f);
+    const LabelGrid& g = scene.medium->grid();
+    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 2));
+    RenderSettings reference;
+    reference.spp = 24;
+    reference.seed = 11;
+    Estimate volpath = renderMean(scene, sensor, reference);
+    for (const char* integrator : {"volpath", "printpt"}) {
+        RenderSettings s = reference;
+        s.integrator = integrator;
+        s.majorants = Majorants::Decomposition;
+        s.seed = 13;
+        expectAgreement(volpath, renderMean(scene, sensor, s), std::string(integrator) + " with decomposition tracking");
+    }
+}
+
 // A white block with a coloured shell: deep inside, printpt's ball walks
 // take over; the result must still agree with volpath, and with printpt
 // without them.

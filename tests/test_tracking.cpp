@@ -180,9 +180,31 @@ TEST(DeltaTracking, GlobalMajorantFreeFlightMatchesAnalyticOpticalDepth) {
                     Majorants::Global);
 }
 
+// Decomposition tracking: a homogeneous medium is all control; the layers'
+// bricks hold a control (their least extinction) and a residual, and
+// bricks of clear resin neither.
+TEST(DecompositionTracking, FreeFlightMatchesAnalyticOpticalDepth) {
+    MaterialTable t;
+    t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
+    LabelMedium homogeneous(test::boxGrid({16, 16, 16}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }), t);
+    const Ray r{{0.8f, 0.8f, 0.8f}, normalize(Vec3f(0.3f, -0.4f, 0.5f))};
+    const double sigma = homogeneous.lut(1).sigmaT_perMm[4];
+    checkFreeFlight(homogeneous, r, 0.7f, 1, [&](double s) { return sigma * s; }, 100000, 21,
+                    Majorants::Decomposition);
+    LabelMedium medium = layeredMedium();
+    const Ray oblique{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    checkFreeFlight(medium, oblique, 6.0f, 0, [&](double s) { return layeredOpticalDepth(oblique, s); }, 200000, 22,
+                    Majorants::Decomposition);
+    checkFreeFlight(medium, oblique, 6.0f, 1, [&](double s) { return 2 * layeredOpticalDepth(oblique, s); }, 200000,
+                    23, Majorants::Decomposition);
+    const Ray inside{{1.0f, 3.0f, 3.0f}, normalize(Vec3f(0.7f, -0.2f, 0.3f))};
+    checkFreeFlight(medium, inside, 3.0f, 2, [&](double s) { return 0.5 * layeredOpticalDepth(inside, s); }, 200000,
+                    24, Majorants::Decomposition);
+}
+
 TEST(DeltaTracking, CollisionsReportTheLabelWhereTheyHappen) {
     LabelMedium medium = layeredMedium();
-    for (Majorants majorants : {Majorants::PerBrick, Majorants::Global}) {
+    for (Majorants majorants : {Majorants::PerBrick, Majorants::Global, Majorants::Decomposition}) {
         LabelMedium::Tracker sampler(medium, majorants);
         Ray r{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
         Rng rng(8, 8);
