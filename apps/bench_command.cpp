@@ -17,6 +17,7 @@
 //   each render's scattering events per second per core against it.
 //   printlight bench SCENE.json --loop CHANGES: apps/bench_loop.h.
 //   printlight bench SCENE.json --error-check 1,2,8: apps/bench_error_check.h.
+//   printlight bench SCENE.json --transmittance: apps/bench_transmittance.h.
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -26,6 +27,7 @@
 #include "apps/bench_error_check.h"
 #include "apps/bench_loop.h"
 #include "apps/bench_measurement.h"
+#include "apps/bench_transmittance.h"
 #include "apps/bench_report.h"
 #include "apps/command_options.h"
 #include "apps/limit_walk.h"
@@ -104,7 +106,9 @@ int benchCommand(const std::vector<std::string>& argv) {
                     {"--loop", "CHANGES",
                      "the optimisation loop's predictions on recorded label changes (optimize --record-changes): "
                      "noise over the footprint and seconds per iteration"},
-                    {"--carry-over", "none,kept,control-variates", "with --loop: the ways of predicting (default all)"}});
+                    {"--carry-over", "none,kept,control-variates", "with --loop: the ways of predicting (default all)"},
+                    {"--transmittance", "",
+                     "fixed segments' transmittance: regular tracking, ratio tracking and pins (variance x time)"}});
     ThreadLimit threads(args);
     if (args.has("--limit") && args.positional().empty()) {
         const LimitWalkRate limit = measureLimitWalk(threads.count);
@@ -115,6 +119,16 @@ int benchCommand(const std::vector<std::string>& argv) {
     }
     if (args.positional().size() != 1) throw UsageError("bench needs exactly one SCENE.json (or --limit alone)");
     SceneDescription desc = parseScene(args.positional()[0]);
+    if (args.has("--transmittance")) {
+        const Scene scene = loadScene(desc);
+        const std::string md =
+            transmittanceTable(scene, uint64_t(args.integer("--seed", 0, RenderSettings::kMostSeed - 1).value_or(1)));
+        const std::string out = args.value("--out").value_or("bench") + "_transmittance.md";
+        refuseToOverwriteInputs(out, desc.inputFiles());
+        writeTextFile(out, md);
+        std::fputs(md.c_str(), stdout);
+        return 0;
+    }
     if (auto file = args.value("--loop")) {
         const LabelChangeHistory changes = readLabelChanges(*file);
         std::vector<std::string> methods = splitList(args.value("--carry-over").value_or("none,kept,control-variates"));

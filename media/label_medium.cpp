@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "media/collision_events.h"
+#include "media/segment_transmittance.h"
 
 #include "media/label_tree.h"
 #include "media/voxel_fields_vdb.h"
@@ -156,6 +157,18 @@ FreeFlight LabelMedium::Tracker::freeFlightAtDepth(const Ray& ray, float tMax_mm
     auto& acc = impl_->accessor;
     return inverseTrack(medium_.toCellRay(ray), tMax_mm, opticalDepth, medium_.frame(), medium_.majorants_,
                         medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
+}
+
+float LabelMedium::Tracker::ratioTrackedTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
+    auto& acc = impl_->accessor;
+    return ratioTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
+                      channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
+}
+
+float LabelMedium::Tracker::pinTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
+    auto& acc = impl_->accessor;
+    return pinTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
+                    channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
 }
 
 float LabelMedium::Tracker::transmittance(const Ray& ray, float tMax_mm, int channel,

@@ -104,6 +104,10 @@ public:
         // exact, or with `roulette` an unbiased estimate that is cheaper
         // through dense resin (trackers.h).
         float transmittance(const Ray& ray, float tMax_mm, int channel, TransmittanceRoulette roulette = {});
+        // Unbiased estimates of the same, by ratio tracking against the
+        // brick majorants or by pins over the voxels (segment_transmittance.h).
+        float ratioTrackedTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng);
+        float pinTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng);
         Label labelAt(const Vec3i& voxel);
         // Where the tracker's answers came from, from now on (none: stop
         // recording): the bricks whose bounds a free flight entered and

@@ -123,6 +123,50 @@ TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
     }
 }
 
+// Ratio tracking and pins (media/segment_transmittance.h) estimate a fixed
+// segment's transmittance without bias: their means over many draws agree
+// with regular tracking's exact value, on the layers (bricks of one label
+// and mixed ones) and on a checkerboard (every voxel a label change).
+TEST(SegmentTransmittance, RatioTrackingAndPinsAreUnbiased) {
+    LabelMedium layered = layeredMedium();
+    MaterialTable t;
+    t.byLabel[1] = material({5, 10, 2}, {0.9f, 0.9f, 0.9f});
+    t.byLabel[2] = material({20, 3, 12}, {0.9f, 0.9f, 0.9f});
+    LabelMedium checkerboard(
+        test::boxGrid({32, 32, 32}, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(1 + (v.x + v.y + v.z) % 2); }),
+        t);
+    struct Case {
+        LabelMedium* medium;
+        Ray ray;
+        float tMax_mm;
+        int channel;
+    };
+    const Ray oblique{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
+    const Ray inside{{0.55f, 0.5f, 0.45f}, normalize(Vec3f(1.0f, 0.3f, 0.2f))};
+    for (const Case& c : {Case{&layered, oblique, 3.3f, 0}, Case{&layered, oblique, 2.6f, 1},
+                          Case{&checkerboard, inside, 0.3f, 0}, Case{&checkerboard, inside, 0.6f, 2}}) {
+        LabelMedium::Tracker tracker(*c.medium);
+        const double exact = tracker.transmittance(c.ray, c.tMax_mm, c.channel);
+        ASSERT_GT(exact, 0.01);
+        ASSERT_LT(exact, 0.8);
+        for (int estimator = 0; estimator < 2; ++estimator) {
+            Rng rng(17, uint64_t(estimator));
+            const int n = 40000;
+            double sum = 0, sumSq = 0;
+            for (int i = 0; i < n; ++i) {
+                const double T = estimator == 0 ? tracker.ratioTrackedTransmittance(c.ray, c.tMax_mm, c.channel, rng)
+                                                : tracker.pinTransmittance(c.ray, c.tMax_mm, c.channel, rng);
+                sum += T;
+                sumSq += T * T;
+            }
+            const double mean = sum / n, error = std::sqrt((sumSq / n - mean * mean) / (n - 1));
+            EXPECT_GT(error, 0.0);  // the mixed bricks make them stochastic
+            EXPECT_NEAR(mean, exact, 4.0 * error) << (estimator == 0 ? "ratio tracking" : "pins") << ", "
+                                                  << c.tMax_mm << " mm, channel " << c.channel;
+        }
+    }
+}
+
 // Free-flight distances: chi-square over distance bins plus an escape bin.
 void checkFreeFlight(LabelMedium& medium, const Ray& r, float tMax, int channel,
                      const std::function<double(double)>& tau, int n, uint64_t seed,

@@ -1,0 +1,81 @@
+// Unbiased stochastic estimates of the transmittance along a fixed
+// segment, beside regularTrack's exact one (trackers.h), to measure them
+// against it (bench --transmittance):
+//  - ratioTrack: ratio tracking (Cramer 1978; Novak et al. 2014) against
+//    the brick majorants: tentative collisions at the brick's largest
+//    sigma_t, each multiplying the estimate by the null fraction
+//    1 - sigma_t / majorant;
+//  - pinTrack: pin transmittance (Hansen 2025, eqs. 3.5-3.8) with the
+//    voxels the segment crosses as the pin's intervals: each voxel's
+//    transmittance t_i is exact, and the estimate takes the factor
+//    c_i = exp(-majorant x length_i) <= t_i with probability
+//    (1 - t_i) / (1 - c_i), so that E[factor] = 1 - (1 - c_i)(1 - t_i) /
+//    (1 - c_i) = t_i. (The thesis stores the bits along precomputed lines
+//    and reuses them, which is where its speed and its bias come from;
+//    drawn afresh for one segment they take regular tracking's lookups
+//    and add variance.)
+// Bricks of one extinction are exact in both, as in regularTrack.
+#pragma once
+
+#include <cmath>
+
+#include "core/rng.h"
+#include "core/sampling.h"
+#include "media/trackers.h"
+
+namespace pl {
+
+template <class LabelLookup>
+float ratioTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                 const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
+    float T = 1.0f;
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
+        const float sMax = maj.maxSigmaT(brick, channel);
+        if (sMax <= 0.0f) return false;
+        if (sMax == maj.minSigmaT(brick, channel)) {
+            T *= std::exp(-sMax * (tEnd - tStart));
+            return false;
+        }
+        Vec3i lo, hi;
+        brickVoxels(brick, frame, lo, hi);
+        const float invMaj = 1.0f / sMax;
+        for (float t = tStart;;) {
+            t += sampleOpticalDepth(rng.uniform()) * invMaj;
+            if (t >= tEnd) return false;
+            T *= 1.0f - lut.sigmaT_perMm[labelAt(clampToBox(ray.voxelAt(t), lo, hi))] * invMaj;
+            if (!(T > 0.0f)) return true;
+        }
+    };
+    trackBricks(ray, tMax_mm, frame, trackBrick);
+    return T;
+}
+
+template <class LabelLookup>
+float pinTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+               const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
+    float T = 1.0f;
+    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
+        const float sMax = maj.maxSigmaT(brick, channel);
+        if (sMax <= 0.0f) return false;
+        if (sMax == maj.minSigmaT(brick, channel)) {
+            T *= std::exp(-sMax * (tEnd - tStart));
+            return false;
+        }
+        Vec3i lo, hi;
+        brickVoxels(brick, frame, lo, hi);
+        GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
+        DdaSegment v;
+        while (voxels.next(v)) {
+            const float length = v.t1 - v.t0;
+            const float c = std::exp(-sMax * length);
+            if (!(c < 1.0f)) continue;
+            const float t = std::exp(-lut.sigmaT_perMm[labelAt(v.cell)] * length);
+            if (rng.uniform() * (1.0f - c) < 1.0f - t) T *= c;
+        }
+        return false;
+    };
+    trackBricks(ray, tMax_mm, frame, trackBrick);
+    return T;
+}
+
+}  // namespace pl
