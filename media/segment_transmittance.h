@@ -25,9 +25,13 @@
 
 namespace pl {
 
-template <class LabelLookup>
-float ratioTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
-                 const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
+// The walk both share: over the bricks the segment crosses, empty ones
+// skipped and uniform ones exact; a mixed brick's stretch [tStart, tEnd)
+// and its voxels [lo, hi) go to mixed(tStart, tEnd, lo, hi, sMax, T), which
+// multiplies its estimate into T and returns true to end the walk (T 0).
+template <class Mixed>
+float trackMixedBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj, int channel,
+                       Mixed&& mixed) {
     float T = 1.0f;
     auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
         const float sMax = maj.maxSigmaT(brick, channel);
@@ -38,44 +42,43 @@ float ratioTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, cons
         }
         Vec3i lo, hi;
         brickVoxels(brick, frame, lo, hi);
-        const float invMaj = 1.0f / sMax;
-        for (float t = tStart;;) {
-            t += sampleOpticalDepth(rng.uniform()) * invMaj;
-            if (t >= tEnd) return false;
-            T *= 1.0f - lut.sigmaT_perMm[labelAt(clampToBox(ray.voxelAt(t), lo, hi))] * invMaj;
-            if (!(T > 0.0f)) return true;
-        }
+        return mixed(tStart, tEnd, lo, hi, sMax, T);
     };
     trackBricks(ray, tMax_mm, frame, trackBrick);
     return T;
 }
 
 template <class LabelLookup>
+float ratioTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
+                 const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
+    return trackMixedBricks(ray, tMax_mm, frame, maj, channel,
+                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sMax, float& T) {
+                                const float invMaj = 1.0f / sMax;
+                                for (float t = tStart;;) {
+                                    t += sampleOpticalDepth(rng.uniform()) * invMaj;
+                                    if (t >= tEnd) return false;
+                                    T *= 1.0f - lut.sigmaT_perMm[labelAt(clampToBox(ray.voxelAt(t), lo, hi))] * invMaj;
+                                    if (!(T > 0.0f)) return true;
+                                }
+                            });
+}
+
+template <class LabelLookup>
 float pinTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
                const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
-    float T = 1.0f;
-    auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
-        const float sMax = maj.maxSigmaT(brick, channel);
-        if (sMax <= 0.0f) return false;
-        if (sMax == maj.minSigmaT(brick, channel)) {
-            T *= std::exp(-sMax * (tEnd - tStart));
-            return false;
-        }
-        Vec3i lo, hi;
-        brickVoxels(brick, frame, lo, hi);
-        GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
-        DdaSegment v;
-        while (voxels.next(v)) {
-            const float length = v.t1 - v.t0;
-            const float c = std::exp(-sMax * length);
-            if (!(c < 1.0f)) continue;
-            const float t = std::exp(-lut.sigmaT_perMm[labelAt(v.cell)] * length);
-            if (rng.uniform() * (1.0f - c) < 1.0f - t) T *= c;
-        }
-        return false;
-    };
-    trackBricks(ray, tMax_mm, frame, trackBrick);
-    return T;
+    return trackMixedBricks(ray, tMax_mm, frame, maj, channel,
+                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sMax, float& T) {
+                                GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
+                                DdaSegment v;
+                                while (voxels.next(v)) {
+                                    const float length = v.t1 - v.t0;
+                                    const float c = std::exp(-sMax * length);
+                                    if (!(c < 1.0f)) continue;
+                                    const float t = std::exp(-lut.sigmaT_perMm[labelAt(v.cell)] * length);
+                                    if (rng.uniform() * (1.0f - c) < 1.0f - t) T *= c;
+                                }
+                                return false;
+                            });
 }
 
 }  // namespace pl

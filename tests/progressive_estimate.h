@@ -8,9 +8,11 @@
 #pragma once
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "render/registry.h"
@@ -153,6 +155,41 @@ inline void expectFaceMiddlesAgree(const Estimate& estimate, const Estimate& ref
                     5.0 * std::hypot(estimate.standardError[c], reference.standardError[c]))
             << what << ", channel " << c;
     }
+}
+
+// No absorption: the light leaving is the environment's, L = Le, on the
+// face middles within the iterations' error, at IOR 1 and 1.5.
+inline void expectWhiteFurnace(RenderSettings settings, uint32_t iterations, uint64_t seed) {
+    settings.seed = seed;
+    for (float ior : {1.0f, 1.5f}) {
+        Scene scene = whiteFurnacePhotonBox(ior);
+        const IterationMeans r = renderIterations(scene, settings, iterations);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
+                << settings.integrator << ", IOR " << ior << ", channel " << c;
+    }
+}
+
+// The coloured box at IOR 1 and 1.5 against volpath over the face middles.
+inline void expectAgreementOnHomogeneousBoxes(RenderSettings settings, uint32_t iterations, uint64_t seed) {
+    settings.seed = seed;
+    for (float ior : {1.0f, 1.5f}) {
+        Scene scene = colouredPhotonBox(ior);
+        expectFaceMiddlesAgree(renderIterations(scene, settings, iterations).faceMiddle, volpathFaceMiddle(scene, 256),
+                               settings.integrator + ", IOR " + std::to_string(ior));
+    }
+}
+
+// The striped box's surface voxels: the same bits with 1 and 4 threads.
+inline void expectSameBitsWhateverTheThreads(RenderSettings settings) {
+    const Scene scene = stripedPhotonBox();
+    settings.spp = 3;
+    std::vector<float> values[2];
+    for (int run = 0; run < 2; ++run) {
+        tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
+        values[run] = surfaceValues(scene, settings);
+    }
+    EXPECT_EQ(values[0], values[1]) << settings.integrator;
 }
 
 }  // namespace pl::test

@@ -3,7 +3,6 @@
 // boundary and on a halftoned box, over the voxels in the middle of the
 // faces (tests/progressive_estimate.h).
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include "integrators/photons/bre.h"
 #include "progressive_estimate.h"
@@ -41,27 +40,15 @@ TEST(Bre, RadiusShrinksAsScheduled) {
     EXPECT_FLOAT_EQ(kept.radiusAt_mm(40), kept.radiusAt_mm(1));
 }
 
-// No absorption: the light leaving is the environment's, L = Le, on the
-// face middles (where the kernel sees photons all round) within the
-// iterations' error.
-TEST(Bre, WhiteFurnaceIsTheEnvironment) {
-    for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::whiteFurnacePhotonBox(ior);
-        const IterationMeans r = renderIterations(scene, 12, 3);
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
-                << "IOR " << ior << ", channel " << c;
-    }
+RenderSettings bre() {
+    RenderSettings s;
+    s.integrator = "bre";
+    return s;
 }
 
-TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) {
-    for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::colouredPhotonBox(ior);
-        const IterationMeans bre = renderIterations(scene, 12, 7);
-        test::expectFaceMiddlesAgree(bre.faceMiddle, test::volpathFaceMiddle(scene, 256),
-                                     "IOR " + std::to_string(ior));
-    }
-}
+TEST(Bre, WhiteFurnaceIsTheEnvironment) { test::expectWhiteFurnace(bre(), 12, 3); }
+
+TEST(Bre, AgreesWithVolpathOnHomogeneousBoxes) { test::expectAgreementOnHomogeneousBoxes(bre(), 12, 7); }
 
 // A skin of one resin over a halftone of two denser ones at the voxel
 // scale: the light reaching a query comes through voxels of each label
@@ -77,18 +64,7 @@ TEST(Bre, AgreesWithVolpathOnAHalftonedBox) {
     test::expectFaceMiddlesAgree(bre.faceMiddle, test::volpathFaceMiddle(scene, 256), "halftoned box");
 }
 
-TEST(Bre, SameBitsWhateverTheThreads) {
-    const Scene scene = test::stripedPhotonBox();
-    RenderSettings s;
-    s.integrator = "bre";
-    s.spp = 3;
-    std::vector<float> values[2];
-    for (int run = 0; run < 2; ++run) {
-        tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
-        values[run] = test::surfaceValues(scene, s);
-    }
-    EXPECT_EQ(values[0], values[1]);
-}
+TEST(Bre, SameBitsWhateverTheThreads) { test::expectSameBitsWhateverTheThreads(bre()); }
 
 }  // namespace
 }  // namespace pl

@@ -4,7 +4,6 @@
 // boundary and on a halftoned box, over the voxels in the middle of the
 // faces (tests/progressive_estimate.h).
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <set>
 
@@ -116,27 +115,18 @@ TEST(PhotonBeams, RadiusShrinksWithTheKernelsDimensions) {
     EXPECT_FLOAT_EQ(kept.radiusAt_mm(40), kept.radiusAt_mm(1));
 }
 
-// No absorption: the light leaving is the environment's, L = Le, on the
-// face middles within the iterations' error.
+RenderSettings settingsOf(const char* estimator) {
+    RenderSettings s;
+    s.integrator = estimator;
+    return s;
+}
+
 TEST(PhotonBeams, WhiteFurnaceIsTheEnvironment) {
-    for (const char* estimator : kEstimators)
-        for (float ior : {1.0f, 1.5f}) {
-            Scene scene = test::whiteFurnacePhotonBox(ior);
-            const IterationMeans r = renderIterations(scene, estimator, 12, 3);
-            for (int c = 0; c < 3; ++c)
-                EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
-                    << estimator << ", IOR " << ior << ", channel " << c;
-        }
+    for (const char* estimator : kEstimators) test::expectWhiteFurnace(settingsOf(estimator), 12, 3);
 }
 
 TEST(PhotonBeams, AgreeWithVolpathOnHomogeneousBoxes) {
-    for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::colouredPhotonBox(ior);
-        const test::Estimate reference = test::volpathFaceMiddle(scene, 256);
-        for (const char* estimator : kEstimators)
-            test::expectFaceMiddlesAgree(renderIterations(scene, estimator, 12, 7).faceMiddle, reference,
-                                         std::string(estimator) + ", IOR " + std::to_string(ior));
-    }
+    for (const char* estimator : kEstimators) test::expectAgreementOnHomogeneousBoxes(settingsOf(estimator), 12, 7);
 }
 
 // A skin of one resin over a halftone of two denser ones at the voxel
@@ -153,18 +143,7 @@ TEST(PhotonBeams, AgreeWithVolpathOnAHalftonedBox) {
 }
 
 TEST(PhotonBeams, SameBitsWhateverTheThreads) {
-    const Scene scene = test::stripedPhotonBox();
-    for (const char* estimator : kEstimators) {
-        RenderSettings s;
-        s.integrator = estimator;
-        s.spp = 3;
-        std::vector<float> values[2];
-        for (int run = 0; run < 2; ++run) {
-            tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
-            values[run] = test::surfaceValues(scene, s);
-        }
-        EXPECT_EQ(values[0], values[1]) << estimator;
-    }
+    for (const char* estimator : kEstimators) test::expectSameBitsWhateverTheThreads(settingsOf(estimator));
 }
 
 }  // namespace

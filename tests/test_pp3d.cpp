@@ -4,7 +4,6 @@
 // halftoned box, over the voxels in the middle of the faces
 // (tests/progressive_estimate.h).
 #include <gtest/gtest.h>
-#include <tbb/global_control.h>
 
 #include <set>
 
@@ -16,15 +15,12 @@
 namespace pl {
 namespace {
 
-using test::IterationMeans;
 using test::material;
 
-IterationMeans renderIterations(const Scene& scene, uint32_t iterations, uint64_t seed, Pp3dOptions options = {}) {
+RenderSettings pp3d() {
     RenderSettings s;
     s.integrator = "pp3d";
-    s.seed = seed;
-    writeOptions(pp3dParameters(), options, s.parameters);
-    return test::renderIterations(scene, s, iterations);
+    return s;
 }
 
 // The ball's kernel at both radii integrates to 1 over space (shells).
@@ -75,25 +71,9 @@ TEST(Pp3d, RadiusShrinksAsScheduled) {
     EXPECT_FLOAT_EQ(kept.radiusAt_mm(40), kept.radiusAt_mm(1));
 }
 
-// No absorption: the light leaving is the environment's, L = Le, on the
-// face middles within the iterations' error.
-TEST(Pp3d, WhiteFurnaceIsTheEnvironment) {
-    for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::whiteFurnacePhotonBox(ior);
-        const IterationMeans r = renderIterations(scene, 12, 3);
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR(r.faceMiddle.mean[c], 1.0, 5.0 * r.faceMiddle.standardError[c] + 1e-3)
-                << "IOR " << ior << ", channel " << c;
-    }
-}
+TEST(Pp3d, WhiteFurnaceIsTheEnvironment) { test::expectWhiteFurnace(pp3d(), 12, 3); }
 
-TEST(Pp3d, AgreesWithVolpathOnHomogeneousBoxes) {
-    for (float ior : {1.0f, 1.5f}) {
-        Scene scene = test::colouredPhotonBox(ior);
-        test::expectFaceMiddlesAgree(renderIterations(scene, 12, 7).faceMiddle, test::volpathFaceMiddle(scene, 256),
-                                     "IOR " + std::to_string(ior));
-    }
-}
+TEST(Pp3d, AgreesWithVolpathOnHomogeneousBoxes) { test::expectAgreementOnHomogeneousBoxes(pp3d(), 12, 7); }
 
 // A skin of one resin over a halftone of two denser ones at the voxel
 // scale (bre's test): the ball takes photons from voxels of every label,
@@ -101,22 +81,13 @@ TEST(Pp3d, AgreesWithVolpathOnHomogeneousBoxes) {
 // query instead moves red 4 % here, within this test's errors.)
 TEST(Pp3d, AgreesWithVolpathOnAHalftonedBox) {
     Scene scene = test::halftonedPhotonBox();
-    test::expectFaceMiddlesAgree(renderIterations(scene, 16, 9).faceMiddle, test::volpathFaceMiddle(scene, 256),
+    RenderSettings s = pp3d();
+    s.seed = 9;
+    test::expectFaceMiddlesAgree(test::renderIterations(scene, s, 16).faceMiddle, test::volpathFaceMiddle(scene, 256),
                                  "halftoned box");
 }
 
-TEST(Pp3d, SameBitsWhateverTheThreads) {
-    const Scene scene = test::stripedPhotonBox();
-    RenderSettings s;
-    s.integrator = "pp3d";
-    s.spp = 3;
-    std::vector<float> values[2];
-    for (int run = 0; run < 2; ++run) {
-        tbb::global_control threads(tbb::global_control::max_allowed_parallelism, run == 0 ? 1 : 4);
-        values[run] = test::surfaceValues(scene, s);
-    }
-    EXPECT_EQ(values[0], values[1]);
-}
+TEST(Pp3d, SameBitsWhateverTheThreads) { test::expectSameBitsWhateverTheThreads(pp3d()); }
 
 }  // namespace
 }  // namespace pl

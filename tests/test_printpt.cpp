@@ -132,8 +132,8 @@ TEST(PrintPt, AgreesWithVolpathWithEverySwitch) {
 // against volpath with the per-brick majorants, on the halftone-like mix
 // (clear resin and thin inks among dense ones: most tentative collisions of
 // the global majorant are null there).
-TEST(PrintPt, GlobalMajorantAgreesWithBricks) {
-    Scene scene = mixedScene(1.5f);
+// volpath and printpt with `majorants` agree with volpath on the bricks.
+void expectTrackerAgrees(const Scene& scene, Majorants majorants) {
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 2));
     RenderSettings reference;
@@ -143,11 +143,14 @@ TEST(PrintPt, GlobalMajorantAgreesWithBricks) {
     for (const char* integrator : {"volpath", "printpt"}) {
         RenderSettings s = reference;
         s.integrator = integrator;
-        s.majorants = Majorants::Global;
+        s.majorants = majorants;
         s.seed = 13;
-        expectAgreement(volpath, renderMean(scene, sensor, s), std::string(integrator) + " with a global majorant");
+        expectAgreement(volpath, renderMean(scene, sensor, s),
+                        std::string(integrator) + " with majorants " + enumName(kMajorantsNames, majorants));
     }
 }
+
+TEST(PrintPt, GlobalMajorantAgreesWithBricks) { expectTrackerAgrees(mixedScene(1.5f), Majorants::Global); }
 
 // Decomposition tracking reaches both estimators' walks and renders what
 // per-brick delta tracking does, on a halftone of inks without clear resin
@@ -156,25 +159,13 @@ TEST(PrintPt, GlobalMajorantAgreesWithBricks) {
 // in tests/test_tracking.cpp: reflectance hardly sees a scaled extinction
 // (a control 20 % too dense passes here).
 TEST(PrintPt, DecompositionTrackingAgreesWithBricks) {
-    Scene scene = test::boxScene({40, 20, 60}, kPrinterVoxel_mm,
-                                 [](const Vec3i& v) {
-                                     static const Label inks[4] = {0, 1, 3, 4};
-                                     return inks[(v.x / 4 + 2 * (v.y / 3) + 3 * (v.z / 6)) % 4];
-                                 },
-                                 test::mixedResins(), 1.5f);
-    const LabelGrid& g = scene.medium->grid();
-    SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), everyNthSurfaceVoxel(g, 2));
-    RenderSettings reference;
-    reference.spp = 24;
-    reference.seed = 11;
-    Estimate volpath = renderMean(scene, sensor, reference);
-    for (const char* integrator : {"volpath", "printpt"}) {
-        RenderSettings s = reference;
-        s.integrator = integrator;
-        s.majorants = Majorants::Decomposition;
-        s.seed = 13;
-        expectAgreement(volpath, renderMean(scene, sensor, s), std::string(integrator) + " with decomposition tracking");
-    }
+    expectTrackerAgrees(test::boxScene({40, 20, 60}, kPrinterVoxel_mm,
+                                       [](const Vec3i& v) {
+                                           static const Label inks[4] = {0, 1, 3, 4};
+                                           return inks[(v.x / 4 + 2 * (v.y / 3) + 3 * (v.z / 6)) % 4];
+                                       },
+                                       test::mixedResins(), 1.5f),
+                        Majorants::Decomposition);
 }
 
 // A white block with a coloured shell: deep inside, printpt's ball walks

@@ -83,6 +83,30 @@ TEST(RegularTracking, HomogeneousBeerLambert) {
             EXPECT_NEAR(sampler.transmittance(r, d, c), std::exp(-medium.lut(c).sigmaT_perMm[4] * d), 1e-5f);
 }
 
+// A segment whose transmittance a test estimates.
+struct SegmentCase {
+    LabelMedium* medium;
+    Ray ray;
+    float tMax_mm;
+    int channel;
+};
+
+// The mean of n draws and its standard error.
+struct DrawnMean {
+    double mean, error;
+};
+template <class Draw>
+DrawnMean meanOfDraws(int n, Draw&& draw) {
+    double sum = 0, sumSq = 0;
+    for (int i = 0; i < n; ++i) {
+        const double x = draw();
+        sum += x;
+        sumSq += x * x;
+    }
+    const double mean = sum / n;
+    return {mean, std::sqrt(std::max(0.0, sumSq / n - mean * mean) / (n - 1))};
+}
+
 // With Russian roulette past an optical depth the transmittance is a random
 // estimate: its mean must be the exact value, in layered (voxel by voxel)
 // and homogeneous (whole bricks) media, and the roulette must actually end
@@ -93,32 +117,24 @@ TEST(RegularTracking, RouletteTransmittanceIsUnbiased) {
     t.byLabel[4] = material({6, 9, 24}, {1, 1, 1});
     LabelMedium homogeneous(test::boxGrid({20, 20, 20}, {0.1f, 0.1f, 0.1f}, [](const Vec3i&) { return Label(4); }),
                             t);
-    struct Case {
-        LabelMedium* medium;
-        Ray ray;
-        float tMax_mm;
-        int channel;
-    };
     const Ray oblique{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
     const Ray inside{{0.05f, 0.5f, 0.5f}, normalize(Vec3f(1.0f, 0.2f, 0.1f))};
-    for (const Case& c : {Case{&layered, oblique, 3.3f, 0}, Case{&layered, oblique, 3.3f, 2},
-                          Case{&homogeneous, inside, 0.5f, 1}, Case{&homogeneous, inside, 0.2f, 2}}) {
+    for (const SegmentCase& c : {SegmentCase{&layered, oblique, 3.3f, 0}, SegmentCase{&layered, oblique, 3.3f, 2},
+                                 SegmentCase{&homogeneous, inside, 0.5f, 1},
+                                 SegmentCase{&homogeneous, inside, 0.2f, 2}}) {
         LabelMedium::Tracker sampler(*c.medium);
         const double exact = sampler.transmittance(c.ray, c.tMax_mm, c.channel);
         ASSERT_GT(exact, 1e-4);
         ASSERT_LT(exact, 0.5) << c.tMax_mm << " " << c.channel;
         Rng rng(7, 3);
         const int n = 40000;
-        double sum = 0, sum2 = 0;
         int ended = 0;
-        for (int i = 0; i < n; ++i) {
-            double T = sampler.transmittance(c.ray, c.tMax_mm, c.channel, TransmittanceRoulette{0.5f, &rng});
-            sum += T;
-            sum2 += T * T;
+        const DrawnMean m = meanOfDraws(n, [&] {
+            const double T = sampler.transmittance(c.ray, c.tMax_mm, c.channel, TransmittanceRoulette{0.5f, &rng});
             ended += T == 0.0;
-        }
-        const double mean = sum / n, stderrOfMean = std::sqrt((sum2 / n - mean * mean) / (n - 1));
-        EXPECT_NEAR(mean, exact, 4.0 * stderrOfMean) << c.tMax_mm;
+            return T;
+        });
+        EXPECT_NEAR(m.mean, exact, 4.0 * m.error) << c.tMax_mm;
         EXPECT_GT(ended, n / 2) << "the roulette should end most segments this deep";
     }
 }
@@ -135,34 +151,24 @@ TEST(SegmentTransmittance, RatioTrackingAndPinsAreUnbiased) {
     LabelMedium checkerboard(
         test::boxGrid({32, 32, 32}, {0.1f, 0.1f, 0.1f}, [](const Vec3i& v) { return Label(1 + (v.x + v.y + v.z) % 2); }),
         t);
-    struct Case {
-        LabelMedium* medium;
-        Ray ray;
-        float tMax_mm;
-        int channel;
-    };
     const Ray oblique{{-1.0f, 1.2f, 1.1f}, normalize(Vec3f(0.8f, 0.36f, 0.48f))};
     const Ray inside{{0.55f, 0.5f, 0.45f}, normalize(Vec3f(1.0f, 0.3f, 0.2f))};
-    for (const Case& c : {Case{&layered, oblique, 3.3f, 0}, Case{&layered, oblique, 2.6f, 1},
-                          Case{&checkerboard, inside, 0.3f, 0}, Case{&checkerboard, inside, 0.6f, 2}}) {
+    for (const SegmentCase& c : {SegmentCase{&layered, oblique, 3.3f, 0}, SegmentCase{&layered, oblique, 2.6f, 1},
+                                 SegmentCase{&checkerboard, inside, 0.3f, 0},
+                                 SegmentCase{&checkerboard, inside, 0.6f, 2}}) {
         LabelMedium::Tracker tracker(*c.medium);
         const double exact = tracker.transmittance(c.ray, c.tMax_mm, c.channel);
         ASSERT_GT(exact, 0.01);
         ASSERT_LT(exact, 0.8);
         for (int estimator = 0; estimator < 2; ++estimator) {
             Rng rng(17, uint64_t(estimator));
-            const int n = 40000;
-            double sum = 0, sumSq = 0;
-            for (int i = 0; i < n; ++i) {
-                const double T = estimator == 0 ? tracker.ratioTrackedTransmittance(c.ray, c.tMax_mm, c.channel, rng)
-                                                : tracker.pinTransmittance(c.ray, c.tMax_mm, c.channel, rng);
-                sum += T;
-                sumSq += T * T;
-            }
-            const double mean = sum / n, error = std::sqrt((sumSq / n - mean * mean) / (n - 1));
-            EXPECT_GT(error, 0.0);  // the mixed bricks make them stochastic
-            EXPECT_NEAR(mean, exact, 4.0 * error) << (estimator == 0 ? "ratio tracking" : "pins") << ", "
-                                                  << c.tMax_mm << " mm, channel " << c.channel;
+            const DrawnMean m = meanOfDraws(40000, [&] {
+                return estimator == 0 ? tracker.ratioTrackedTransmittance(c.ray, c.tMax_mm, c.channel, rng)
+                                      : tracker.pinTransmittance(c.ray, c.tMax_mm, c.channel, rng);
+            });
+            EXPECT_GT(m.error, 0.0);  // the mixed bricks make them stochastic
+            EXPECT_NEAR(m.mean, exact, 4.0 * m.error) << (estimator == 0 ? "ratio tracking" : "pins") << ", "
+                                                      << c.tMax_mm << " mm, channel " << c.channel;
         }
     }
 }

@@ -42,12 +42,7 @@ Bre::Bre(const Scene& scene, const Sensor& sensor, BreOptions options, Majorants
                "bre", "photons", "lower bre_photons_per_pixel"),
       radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, 2) {}
 
-IntegratorCapabilities Bre::capabilities(const RenderSettings&) {
-    IntegratorCapabilities c;
-    c.needs = {false, true};  // volpath's walk looks for the clearance first
-    c.lightPathsServeEveryPixel = true;
-    return c;
-}
+IntegratorCapabilities Bre::capabilities(const RenderSettings&) { return photonCapabilities(); }
 
 std::unique_ptr<Integrator> Bre::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
     return std::make_unique<Bre>(scene, sensor, readOptions(breParameters(), s.parameters), s.majorants, s.seed);

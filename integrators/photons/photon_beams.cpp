@@ -82,12 +82,7 @@ PhotonBeamEstimator::PhotonBeamEstimator(const Scene& scene, const Sensor& senso
                "photon beams", "photon beams", "lower beams_photons_per_pixel"),
       radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, kernelDimensions) {}
 
-IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) {
-    IntegratorCapabilities c;
-    c.needs = {false, true};  // volpath's walk looks for the clearance first
-    c.lightPathsServeEveryPixel = true;
-    return c;
-}
+IntegratorCapabilities PhotonBeamEstimator::capabilities(const RenderSettings&) { return photonCapabilities(); }
 
 float PhotonBeamEstimator::radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
 

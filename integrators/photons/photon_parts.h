@@ -20,6 +20,7 @@
 #include "core/mesh_point_sampler.h"
 #include "core/path_stats.h"
 #include "core/rng.h"
+#include "integrators/integrator.h"
 #include "integrators/volume_walk.h"
 #include "media/label_medium.h"
 #include "runtime/interrupt.h"
@@ -30,6 +31,15 @@
 namespace pl {
 
 constexpr size_t kPhotonParts = 64;
+
+// What a progressive photon estimator can do: every sensor, its light
+// paths serving every pixel; volpath's walk looks for the clearance first.
+inline IntegratorCapabilities photonCapabilities() {
+    IntegratorCapabilities c;
+    c.needs = {false, true};
+    c.lightPathsServeEveryPixel = true;
+    return c;
+}
 
 // What photons gather is the radiance inside, n^2 times the path tracers'
 // unit: this turns it into theirs.

@@ -26,12 +26,7 @@ Pp3d::Pp3d(const Scene& scene, const Sensor& sensor, Pp3dOptions options, Majora
                "pp3d", "photons", "lower pp3d_photons_per_pixel"),
       radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, 3) {}
 
-IntegratorCapabilities Pp3d::capabilities(const RenderSettings&) {
-    IntegratorCapabilities c;
-    c.needs = {false, true};  // volpath's walk looks for the clearance first
-    c.lightPathsServeEveryPixel = true;
-    return c;
-}
+IntegratorCapabilities Pp3d::capabilities(const RenderSettings&) { return photonCapabilities(); }
 
 std::unique_ptr<Integrator> Pp3d::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
     return std::make_unique<Pp3d>(scene, sensor, readOptions(pp3dParameters(), s.parameters), s.majorants, s.seed);
