@@ -99,7 +99,9 @@ int benchCommand(const std::vector<std::string>& argv) {
                     {"--configs", "A,B,...", "estimator configurations (default volpath,printpt)"},
                     kSppOption,
                     integratorOption(),
-                    {"--out", "PREFIX", "tables and plot: PREFIX.md, .csv, .svg (default bench)"},
+                    {"--out", "PREFIX",
+                     "tables and plot: PREFIX.md, .csv, .svg (default bench; --loop: PREFIX_loop.md, "
+                     "--transmittance: PREFIX_transmittance.md)"},
                     {"--target-relative-error", "E", "the time to that median per-pixel relative error (default 0.02)"},
                     kThreadsOption,
                     {"--limit", "", "the limit walk (a lookup-free walk in an infinite medium) alone"},

@@ -40,8 +40,8 @@ const std::vector<std::pair<const char*, const char*>> kVariants = {
     {"volpath-global-majorant", "volpath/majorants=global"},
     {"printpt-global-majorant", "printpt/majorants=global"},
     // Decomposition tracking: each brick's least extinction sampled analytically.
-    {"volpath-decomposition", "volpath/majorants=decomposition"},
-    {"printpt-decomposition", "printpt/majorants=decomposition"},
+    {"volpath-decomposition", "volpath/majorants=decomposition/channel_sampling=separate"},
+    {"printpt-decomposition", "printpt/majorants=decomposition/channel_sampling=separate"},
     // Three channels: one pass per channel, or one path for all three.
     {"volpath-separate", "volpath/channel_sampling=separate"},
     {"volpath-hero", "volpath/channel_sampling=hero"},
@@ -107,6 +107,8 @@ std::optional<RenderSettings> parseConfiguration(const std::string& spec, const 
     const IntegratorKind& kind = integratorKindOf(s);
     if (auto problem = checkParameters(kind.factory.parameters(), s.parameters, kind.name))
         throw UsageError("configuration '" + spec + "': " + problem->key + ": " + problem->what);
+    if (std::string why = majorantsRefusal(s); !why.empty())
+        throw UsageError("configuration '" + spec + "': majorants: " + why);
     return s;
 }
 

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <iterator>
+#include <stdexcept>
 #include <vector>
 
 #include "core/mesh_point_sampler.h"
@@ -18,6 +20,8 @@ namespace {
 constexpr size_t kSegments = 2000;  // per length and channel
 constexpr int kRepeats = 16;        // estimates of each segment by each stochastic estimator
 constexpr float kLengths_voxels[] = {2, 8, 32};
+// Entries tried per segment kept before the mesh is taken as open.
+constexpr size_t kMostTriesPerSegment = 100;
 
 struct Segment {
     Ray ray;
@@ -85,18 +89,21 @@ std::string transmittanceTable(const Scene& scene, uint64_t seed) {
         "| channel | length (voxels) | mean T | estimator | ns per estimate | variance | variance x time (ns) | "
         "difference |\n|---|---|---|---|---|---|---|---|\n";
     for (int channel = 0; channel < 3; ++channel)
-        for (float lengthVoxels : kLengths_voxels) {
+        for (size_t lengthIndex = 0; lengthIndex < std::size(kLengths_voxels); ++lengthIndex) {
+            const float length_voxels = kLengths_voxels[lengthIndex];
             std::vector<Segment> segments;
-            Rng rng(seed, uint64_t(channel) * 16 + uint64_t(lengthVoxels));
-            while (segments.size() < kSegments) {
+            Rng rng(seed, uint64_t(channel) * std::size(kLengths_voxels) + lengthIndex);
+            for (size_t tries = 0; segments.size() < kSegments; ++tries) {
+                if (tries > kMostTriesPerSegment * kSegments)
+                    throw std::runtime_error("bench --transmittance: rays into the mesh do not leave it (an open mesh?)");
                 const SurfaceHit entry = entries.sample(rng);
                 const float u0 = rng.uniform(), u1 = rng.uniform();
                 const Vec3f d = -Frame(entry.ng).toWorld(sampleCosineHemisphere(u0, u1).d);
                 const Ray ray = geometry.spawnRay(entry.p, entry.ng, d);
                 const std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
                 if (!exit) continue;
-                const float length = std::min(exit->t, lengthVoxels * voxel_mm);
-                segments.push_back({ray, length, double(tracker.transmittance(ray, length, channel))});
+                const float length_mm = std::min(exit->t, length_voxels * voxel_mm);
+                segments.push_back({ray, length_mm, double(tracker.transmittance(ray, length_mm, channel))});
             }
             double meanT = 0;
             for (const Segment& s : segments) meanT += s.exact / double(segments.size());
@@ -118,7 +125,7 @@ std::string transmittanceTable(const Scene& scene, uint64_t seed) {
                 const double difference = m.differenceSum / n;
                 const double differenceError =
                     std::sqrt(std::max(0.0, m.differenceSumSq / n - difference * difference) / (n - 1));
-                md += "| " + std::string("RGB").substr(size_t(channel), 1) + " | " + number("%.0f", lengthVoxels) +
+                md += "| " + std::string("RGB").substr(size_t(channel), 1) + " | " + number("%.0f", length_voxels) +
                       " | " + number("%.4f", meanT) + " | " + name + " | " + number("%.0f", ns) + " | " +
                       number("%.3g", variance) + " | " + number("%.3g", variance * ns) + " | " +
                       number("%+.1e", difference) + " +- " + number("%.1e", differenceError) + " |\n";

@@ -19,8 +19,8 @@ const std::vector<OptionParameter<RenderSettings>>& renderParameters() {
 }
 
 std::string majorantsRefusal(const RenderSettings& settings) {
-    const bool threeInOnePath = settings.channelSampling != ChannelSampling::Separate && settings.channels.size() == 3;
-    if (settings.majorants == Majorants::Decomposition && threeInOnePath)
+    // Whatever the channels asked now: optimize asks for all three later.
+    if (settings.majorants == Majorants::Decomposition && settings.channelSampling != ChannelSampling::Separate)
         return "decomposition tracks one channel a flight: with channel_sampling 'separate' only";
     return "";
 }

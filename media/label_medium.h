@@ -92,7 +92,8 @@ public:
         Tracker(const Tracker&) = delete;
         Tracker& operator=(const Tracker&) = delete;
 
-        // Delta tracking along the ray up to tMax_mm (against the tracker's majorants).
+        // A free flight along the ray up to tMax_mm: delta tracking against
+        // the tracker's majorants, or decomposition tracking.
         FreeFlight sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng);
         // Three channels at once (media/collision_events.h): delta tracking for the
         // hero channel with log pdf ratios of the others, or spectral tracking.
@@ -114,8 +115,8 @@ public:
         // the labels it or labelAt read (LabelReads). A path none of whose
         // bricks changed its bounds and none of whose reads a relabelling
         // contradicts is the same path after the change. Free flights
-        // against per-brick majorants and labelAt only: regular tracking
-        // and the global majorant are not recorded.
+        // against per-brick majorants and labelAt only: regular tracking,
+        // the global majorant and decomposition tracking are not recorded.
         void recordReads(LabelReads* reads) { reads_ = reads; }
         // Outward normal of the nearest surface and signed distance (mm) at
         // p, from the surface fields; none outside their band.

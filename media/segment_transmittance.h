@@ -27,22 +27,22 @@ namespace pl {
 
 // The walk both share: over the bricks the segment crosses, empty ones
 // skipped and uniform ones exact; a mixed brick's stretch [tStart, tEnd)
-// and its voxels [lo, hi) go to mixed(tStart, tEnd, lo, hi, sMax, T), which
+// and its voxels [lo, hi) go to mixed(tStart, tEnd, lo, hi, sigmaMax_perMm, T), which
 // multiplies its estimate into T and returns true to end the walk (T 0).
 template <class Mixed>
 float trackMixedBricks(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj, int channel,
                        Mixed&& mixed) {
     float T = 1.0f;
     auto trackBrick = [&](const Vec3i& brick, float tStart, float tEnd, FreeFlight&) PL_ALWAYS_INLINE {
-        const float sMax = maj.maxSigmaT(brick, channel);
-        if (sMax <= 0.0f) return false;
-        if (sMax == maj.minSigmaT(brick, channel)) {
-            T *= std::exp(-sMax * (tEnd - tStart));
+        const float sigmaMax_perMm = maj.maxSigmaT(brick, channel);
+        if (sigmaMax_perMm <= 0.0f) return false;
+        if (sigmaMax_perMm == maj.minSigmaT(brick, channel)) {
+            T *= std::exp(-sigmaMax_perMm * (tEnd - tStart));
             return false;
         }
         Vec3i lo, hi;
         brickVoxels(brick, frame, lo, hi);
-        return mixed(tStart, tEnd, lo, hi, sMax, T);
+        return mixed(tStart, tEnd, lo, hi, sigmaMax_perMm, T);
     };
     trackBricks(ray, tMax_mm, frame, trackBrick);
     return T;
@@ -52,8 +52,8 @@ template <class LabelLookup>
 float ratioTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
                  const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
     return trackMixedBricks(ray, tMax_mm, frame, maj, channel,
-                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sMax, float& T) {
-                                const float invMaj = 1.0f / sMax;
+                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sigmaMax_perMm, float& T) {
+                                const float invMaj = 1.0f / sigmaMax_perMm;
                                 for (float t = tStart;;) {
                                     t += sampleOpticalDepth(rng.uniform()) * invMaj;
                                     if (t >= tEnd) return false;
@@ -67,14 +67,14 @@ template <class LabelLookup>
 float pinTrack(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& maj,
                const ChannelLut& lut, int channel, LabelLookup&& labelAt, Rng& rng) {
     return trackMixedBricks(ray, tMax_mm, frame, maj, channel,
-                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sMax, float& T) {
+                            [&](float tStart, float tEnd, const Vec3i& lo, const Vec3i& hi, float sigmaMax_perMm, float& T) {
                                 GridDda voxels(ray.o, ray.d, tStart, tEnd, lo, hi);
                                 DdaSegment v;
                                 while (voxels.next(v)) {
-                                    const float length = v.t1 - v.t0;
-                                    const float c = std::exp(-sMax * length);
+                                    const float length_mm = v.t1 - v.t0;
+                                    const float c = std::exp(-sigmaMax_perMm * length_mm);
                                     if (!(c < 1.0f)) continue;
-                                    const float t = std::exp(-lut.sigmaT_perMm[labelAt(v.cell)] * length);
+                                    const float t = std::exp(-lut.sigmaT_perMm[labelAt(v.cell)] * length_mm);
                                     if (rng.uniform() * (1.0f - c) < 1.0f - t) T *= c;
                                 }
                                 return false;

@@ -196,39 +196,40 @@ PL_ALWAYS_INLINE inline FreeFlight sampleMajorantFlight(const CellRay& ray, ForE
 // sigma_r / (largest - least). The flight ends at the nearer of the two
 // (the sum of two independent exponential processes is the medium's), and
 // both optical depths left over carry into the next segment. Every event
-// but the control's needs the label, as delta tracking's does; it saves
-// the control's share of the accept-or-reject draws.
+// looks the label up, as delta tracking's does (a control collision for
+// the label's albedo and phase); it saves the control's share of the
+// accept-or-reject draws.
 template <class ForEachSegment, class LabelLookup>
 PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, ForEachSegment&& forEachSegment,
                                                           const ChannelLut& lut, int channel, LabelLookup&& labelAt,
                                                           Rng& rng) {
     float controlLeft = -1.0f, residualLeft = -1.0f;  // optical depths left (< 0: draw a new one)
     return forEachSegment([&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
-        const float least = segment.bounds->minSigmaT[channel];
-        const float residualMaj = segment.bounds->maxSigmaT[channel] - least;
+        const float leastSigmaT_perMm = segment.bounds->minSigmaT[channel];
+        const float residualMaj_perMm = segment.bounds->maxSigmaT[channel] - leastSigmaT_perMm;
         const int sole = segment.bounds->soleLabel;
         auto labelAtT = [&](float t) PL_ALWAYS_INLINE {
             return sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
         };
         float tControl = std::numeric_limits<float>::infinity();
-        if (least > 0.0f) {
+        if (leastSigmaT_perMm > 0.0f) {
             if (controlLeft < 0.0f) controlLeft = sampleOpticalDepth(rng.uniform());
-            tControl = segment.tStart + controlLeft / least;
+            tControl = segment.tStart + controlLeft / leastSigmaT_perMm;
         }
         const float tStop = std::min(tControl, segment.tEnd);
-        if (residualMaj > 0.0f) {
-            const float invMaj = 1.0f / residualMaj;
+        if (residualMaj_perMm > 0.0f) {
+            const float invMaj = 1.0f / residualMaj_perMm;
             for (float t = segment.tStart;;) {
                 if (residualLeft < 0.0f) residualLeft = sampleOpticalDepth(rng.uniform());
                 const float tNext = t + residualLeft * invMaj;
                 if (tNext >= tStop) {
-                    residualLeft -= (tStop - t) * residualMaj;
+                    residualLeft -= (tStop - t) * residualMaj_perMm;
                     break;
                 }
                 residualLeft = -1.0f;
                 t = tNext;
                 const Label l = labelAtT(t);
-                if (rng.uniform() * residualMaj < lut.sigmaT_perMm[l] - least) {
+                if (rng.uniform() * residualMaj_perMm < lut.sigmaT_perMm[l] - leastSigmaT_perMm) {
                     out = FreeFlight::collision(t, l);
                     return true;
                 }
@@ -238,7 +239,7 @@ PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, Fo
             out = FreeFlight::collision(tControl, labelAtT(tControl));
             return true;
         }
-        if (least > 0.0f) controlLeft -= (segment.tEnd - segment.tStart) * least;
+        if (leastSigmaT_perMm > 0.0f) controlLeft -= (segment.tEnd - segment.tStart) * leastSigmaT_perMm;
         return false;
     });
 }

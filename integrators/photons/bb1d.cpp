@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/sampling.h"
+#include "integrators/photons/photon_estimator.h"
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
 

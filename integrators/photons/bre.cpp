@@ -6,6 +6,7 @@
 
 #include "core/fresnel.h"
 #include "core/sampling.h"
+#include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/photon_iterations.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"

@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "core/film.h"
-#include "integrators/photons/photon_parts.h"
+#include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/two_radii.h"
 #include "integrators/volume_walk.h"
 #include "scene/scene.h"

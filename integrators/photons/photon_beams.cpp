@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/photon_iterations.h"
 #include "runtime/memory_budget.h"
 

@@ -1,5 +1,5 @@
 // The photons of one iteration of a progressive photon estimator (bre's
-// points, pb2d's and bb1d's beams): they enter from the environment,
+// and pp3d's points, pb2d's and bb1d's beams): they enter from the environment,
 // uniform by area over the mesh with cosine-weighted directions, each
 // carrying the power the environment sends in (Le pi A) over their count,
 // and walk with volpath's walk (walkParticleIn). They are traced in
@@ -20,7 +20,6 @@
 #include "core/mesh_point_sampler.h"
 #include "core/path_stats.h"
 #include "core/rng.h"
-#include "integrators/integrator.h"
 #include "integrators/volume_walk.h"
 #include "media/label_medium.h"
 #include "runtime/interrupt.h"
@@ -31,19 +30,6 @@
 namespace pl {
 
 constexpr size_t kPhotonParts = 64;
-
-// What a progressive photon estimator can do: every sensor, its light
-// paths serving every pixel; volpath's walk looks for the clearance first.
-inline IntegratorCapabilities photonCapabilities() {
-    IntegratorCapabilities c;
-    c.needs = {false, true};
-    c.lightPathsServeEveryPixel = true;
-    return c;
-}
-
-// What photons gather is the radiance inside, n^2 times the path tracers'
-// unit: this turns it into theirs.
-inline double insideToOutside(const Scene& scene) { return 1.0 / (double(scene.ior) * scene.ior); }
 
 class PhotonSource {
 public:

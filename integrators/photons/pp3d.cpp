@@ -1,6 +1,7 @@
 #include "integrators/photons/pp3d.h"
 
 #include "core/sampling.h"
+#include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/clear_gather.h"
 #include "integrators/photons/photon_iterations.h"
 #include "integrators/render_settings.h"

@@ -9,8 +9,8 @@
 // kernel's bias as well as the iterations' spread (Hachisuka et al. 2010
 // estimate the bias from the kernel's derivatives; two radii need none).
 // Where the reach is many mean free paths past a boundary the bias grows
-// slower than r and this sees part of it: pb2d gathers only where its
-// disc stays inside (docs/particle-methods.md, "Their errors").
+// slower than r and this sees part of it: pp3d and pb2d gather only where
+// their kernel stays inside (docs/particle-methods.md, "Their errors").
 #pragma once
 
 #include <cmath>
@@ -56,8 +56,9 @@ inline TwoRadii ballBiweight(double d2, double r2) {
     return {at(r2), at(0.25 * r2)};
 }
 
-// The biweight integrated along a line across a ball of radius r: 16 / (5
-// pi r) (1 - d^2 / r^2)^(5/2) at distance d from the line, at r and r / 2.
+// The disc's biweight integrated along a chord (a unit 1D kernel across
+// a line): 16 / (5 pi r) (1 - d^2 / r^2)^(5/2) at distance d from the
+// line, at r and r / 2.
 inline TwoRadii lineBiweight(double d2, double r) {
     auto at = [&](double radius) {
         const double radius2 = radius * radius;
