@@ -195,7 +195,7 @@ TEST(SlabReference, DenseSlabsLoseNothingAtTheSurface) {
 // as their iterations' spread (integrators/photons/two_radii.h; pp3d and
 // pb2d gather only where their kernel stays inside: a disc reaching past the
 // boundary finds no beams there, and the estimate falls 30-50 % low on
-// these slabs, 50 of its errors). bb1d, whose 1 / sin theta leaves a mean
+// these slabs, 50 of its errors). bb1d, whose heavy tails leave a mean
 // z^2 up to 2.5, is not held to this. At 16 iterations, per
 // channel: the mean over pixels within 4 of its error (the bias terms added
 // as if every pixel shared them, as they share the photons), the pixels'
