@@ -76,6 +76,17 @@ public:
             hit = intersect(ray, tMax, hit->t + rayEpsilon_mm_);
         return hit;
     }
+    // A ray that spawnRay started inside near an edge can leave through the
+    // other face before its tMin, which skips the face it started on: the
+    // nearest such exit (a face it leaves through, from its origin up to
+    // tMin), or none.
+    std::optional<SurfaceHit> exitBeforeTMin(const Ray& ray) const {
+        Ray fromOrigin = ray;
+        fromOrigin.tMin = 0.0f;
+        auto hit = intersect(fromOrigin, ray.tMin);
+        if (hit && dot(ray.d, hit->ng) > 0) return hit;
+        return std::nullopt;
+    }
     // The point of triangle prim at barycentrics (u, v) (v0 + u e1 + v e2),
     // with its normals; t is 0.
     SurfaceHit pointOn(uint32_t prim, float u, float v) const;

@@ -65,6 +65,7 @@ typename Path::Value walkVolume(const Scene& scene, const VolPathOptions& option
         if (!ff.scattered) {
             hit = firstHit ? *firstHit : geometry.intersect(ray);
             firstHit = nullptr;
+            if (!hit && spawnedInside) hit = geometry.exitBeforeTMin(ray);
             if (!hit) {
                 if (spawnedInside) stats.leaks += 1;
                 path.addLight(L, 1.0f);  // escapes to the environment
