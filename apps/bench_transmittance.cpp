@@ -63,12 +63,6 @@ Measured measure(const std::vector<Segment>& segments, uint64_t seed,
     }
     return m;
 }
-
-std::string number(const char* format, double value) {
-    char text[64];
-    std::snprintf(text, sizeof(text), format, value);
-    return text;
-}
 }  // namespace
 
 std::string transmittanceTable(const Scene& scene, uint64_t seed) {
@@ -125,10 +119,11 @@ std::string transmittanceTable(const Scene& scene, uint64_t seed) {
                 const double difference = m.differenceSum / n;
                 const double differenceError =
                     std::sqrt(std::max(0.0, m.differenceSumSq / n - difference * difference) / (n - 1));
-                md += "| " + std::string("RGB").substr(size_t(channel), 1) + " | " + number("%.0f", length_voxels) +
-                      " | " + number("%.4f", meanT) + " | " + name + " | " + number("%.0f", ns) + " | " +
-                      number("%.3g", variance) + " | " + number("%.3g", variance * ns) + " | " +
-                      number("%+.1e", difference) + " +- " + number("%.1e", differenceError) + " |\n";
+                char line[256];
+                std::snprintf(line, sizeof line, "| %c | %.0f | %.4f | %s | %.0f | %.3g | %.3g | %+.1e +- %.1e |\n",
+                              "RGB"[channel], length_voxels, meanT, name, ns, variance, variance * ns, difference,
+                              differenceError);
+                md += line;
             }
         }
     return md;

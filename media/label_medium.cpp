@@ -41,6 +41,21 @@ struct LabelMedium::Tracker::Impl {
     }
 };
 
+namespace {
+// The label lookup the trackers take as a template parameter (inlined in
+// their loops): through this thread's OpenVDB accessor.
+template <class Accessor>
+auto labelLookup(Accessor& acc) {
+    return [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
+}
+// The ray's per-brick majorant segments (forEachBrickSegment bound to it).
+auto brickSegments(const CellRay& ray, float tMax_mm, const GridFrame& frame, const MajorantGrid& majorants) {
+    return [&ray, tMax_mm, &frame, &majorants](auto&& visit) PL_ALWAYS_INLINE {
+        return forEachBrickSegment(ray, tMax_mm, frame, majorants, visit);
+    };
+}
+}  // namespace
+
 LabelMedium::Tracker::Tracker(const LabelMedium& medium, Majorants majorants)
     : impl_(std::make_unique<Impl>(*medium.grid_.tree().vdb, medium.fields_.get())), medium_(medium),
       majorants_(majorants) {}
@@ -94,7 +109,7 @@ struct RecordedEvents<DeltaEvents> {
 template <class Events>
 FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Events& events, Rng& rng) {
     auto& acc = impl_->accessor;
-    auto labelAt = [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); };
+    auto labelAt = labelLookup(acc);
     const CellRay cellRay = medium_.toCellRay(ray);
     if (majorants_ == Majorants::Global) {
         auto segments = [&](auto&& visit) {
@@ -118,22 +133,15 @@ FreeFlight LabelMedium::Tracker::sampleFlight(const Ray& ray, float tMax_mm, Eve
         RecordedEvents<Events> recordedEvents{events, *reads_};
         return sampleMajorantFlight(cellRay, recorded, recordedEvents, recordedLabelAt, rng);
     }
-    auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
-        return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), majorants, visit);
-    };
-    return sampleMajorantFlight(cellRay, segments, events, labelAt, rng);
+    return sampleMajorantFlight(cellRay, brickSegments(cellRay, tMax_mm, medium_.frame(), majorants), events, labelAt,
+                                rng);
 }
 
 FreeFlight LabelMedium::Tracker::sampleFreeFlight(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
     if (majorants_ == Majorants::Decomposition) {
-        auto& acc = impl_->accessor;
         const CellRay cellRay = medium_.toCellRay(ray);
-        auto segments = [&](auto&& visit) PL_ALWAYS_INLINE {
-            return forEachBrickSegment(cellRay, tMax_mm, medium_.frame(), medium_.majorants_, visit);
-        };
-        return sampleDecomposedFlight(cellRay, segments, medium_.luts_[channel], channel,
-                                      [&acc](const Vec3i& v) PL_ALWAYS_INLINE { return acc.getValue(toCoord(v)); },
-                                      rng);
+        return sampleDecomposedFlight(cellRay, brickSegments(cellRay, tMax_mm, medium_.frame(), medium_.majorants_),
+                                      medium_.luts_[channel], channel, labelLookup(impl_->accessor), rng);
     }
     DeltaEvents events{medium_.luts_[channel], channel};
     return sampleFlight(ray, tMax_mm, events, rng);
@@ -156,19 +164,19 @@ FreeFlight LabelMedium::Tracker::freeFlightAtDepth(const Ray& ray, float tMax_mm
                                                    float opticalDepth) {
     auto& acc = impl_->accessor;
     return inverseTrack(medium_.toCellRay(ray), tMax_mm, opticalDepth, medium_.frame(), medium_.majorants_,
-                        medium_.luts_[channel], channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); });
+                        medium_.luts_[channel], channel, labelLookup(acc));
 }
 
 float LabelMedium::Tracker::ratioTrackedTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
     auto& acc = impl_->accessor;
     return ratioTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
-                      channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
+                      channel, labelLookup(acc), rng);
 }
 
 float LabelMedium::Tracker::pinTransmittance(const Ray& ray, float tMax_mm, int channel, Rng& rng) {
     auto& acc = impl_->accessor;
     return pinTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_, medium_.luts_[channel],
-                    channel, [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, rng);
+                    channel, labelLookup(acc), rng);
 }
 
 float LabelMedium::Tracker::transmittance(const Ray& ray, float tMax_mm, int channel,
@@ -176,7 +184,7 @@ float LabelMedium::Tracker::transmittance(const Ray& ray, float tMax_mm, int cha
     auto& acc = impl_->accessor;
     return regularTrack(medium_.toCellRay(ray), tMax_mm, medium_.frame(), medium_.majorants_,
                         medium_.luts_[channel], channel,
-                        [&acc](const Vec3i& v) { return acc.getValue(toCoord(v)); }, roulette);
+                        labelLookup(acc), roulette);
 }
 
 GridCoefficients gridCoefficientsOf(const LabelMedium& medium) {

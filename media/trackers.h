@@ -144,6 +144,15 @@ FreeFlight wholeGridSegment(const CellRay& ray, float tMax_mm, const GridFrame& 
     return visit(segment, out) ? out : FreeFlight{};
 }
 
+// The label at t in a segment: its sole label, or the lookup confined to
+// its voxels (round-off must not take a lookup out of them).
+template <class LabelLookup>
+PL_ALWAYS_INLINE inline Label labelInSegment(const CellRay& ray, const MajorantSegment& segment, float t,
+                                             LabelLookup&& labelAt) {
+    const int sole = segment.bounds->soleLabel;
+    return sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
+}
+
 // The one loop of the null-collision trackers (delta, hero and spectral
 // tracking; pbrt-v4's SampleT_maj): tentative collisions at each segment's
 // majorant, a label lookup at each (none where the segment has a sole
@@ -166,7 +175,6 @@ PL_ALWAYS_INLINE inline FreeFlight sampleMajorantFlight(const CellRay& ray, ForE
             return false;
         }
         const float invMaj = 1.0f / sigmaMaj;
-        const int sole = segment.bounds->soleLabel;
         float t = segment.tStart;
         for (;;) {
             if (tauLeft < 0.0f) tauLeft = sampleOpticalDepth(rng.uniform());
@@ -178,7 +186,7 @@ PL_ALWAYS_INLINE inline FreeFlight sampleMajorantFlight(const CellRay& ray, ForE
             }
             tauLeft = -1.0f;
             t = tNext;
-            const Label l = sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
+            const Label l = labelInSegment(ray, segment, t, labelAt);
             if (events.collides(t, l, rng)) {
                 out = FreeFlight::collision(t, l);
                 return true;
@@ -207,10 +215,6 @@ PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, Fo
     return forEachSegment([&](const MajorantSegment& segment, FreeFlight& out) PL_ALWAYS_INLINE {
         const float leastSigmaT_perMm = segment.bounds->minSigmaT[channel];
         const float residualMaj_perMm = segment.bounds->maxSigmaT[channel] - leastSigmaT_perMm;
-        const int sole = segment.bounds->soleLabel;
-        auto labelAtT = [&](float t) PL_ALWAYS_INLINE {
-            return sole >= 0 ? Label(sole) : labelAt(clampToBox(ray.voxelAt(t), segment.lo, segment.hi));
-        };
         float tControl = std::numeric_limits<float>::infinity();
         if (leastSigmaT_perMm > 0.0f) {
             if (controlLeft < 0.0f) controlLeft = sampleOpticalDepth(rng.uniform());
@@ -228,7 +232,7 @@ PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, Fo
                 }
                 residualLeft = -1.0f;
                 t = tNext;
-                const Label l = labelAtT(t);
+                const Label l = labelInSegment(ray, segment, t, labelAt);
                 if (rng.uniform() * residualMaj_perMm < lut.sigmaT_perMm[l] - leastSigmaT_perMm) {
                     out = FreeFlight::collision(t, l);
                     return true;
@@ -236,7 +240,7 @@ PL_ALWAYS_INLINE inline FreeFlight sampleDecomposedFlight(const CellRay& ray, Fo
             }
         }
         if (tControl < segment.tEnd) {
-            out = FreeFlight::collision(tControl, labelAtT(tControl));
+            out = FreeFlight::collision(tControl, labelInSegment(ray, segment, tControl, labelAt));
             return true;
         }
         if (leastSigmaT_perMm > 0.0f) controlLeft -= (segment.tEnd - segment.tStart) * leastSigmaT_perMm;
