@@ -4,6 +4,7 @@
 
 #include "integrators/photons/bb1d.h"
 #include "integrators/photons/bre.h"
+#include "integrators/photons/combined.h"
 #include "integrators/diffusion/diffusion.h"
 #include "integrators/learned/learned.h"
 #include "integrators/lighttrace/lighttrace.h"
@@ -26,6 +27,7 @@ std::deque<IntegratorKind>& kinds() {
         {"pp3d", factoryOf<Pp3d>()},
         {"pb2d", factoryOf<Pb2d>()},
         {"bb1d", factoryOf<Bb1d>()},
+        {"combined", factoryOf<Combined>()},
     };
     return all;
 }

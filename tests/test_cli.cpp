@@ -473,7 +473,7 @@ TEST(Cli, RefusesJobsThatDoNotFitInMemory) {
 // about 50 per photon in white resin: an iteration that outgrows the memory
 // stops with an error that says so (after the summary line), and writes nothing.
 TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
-    for (const char* estimator : {"bre", "pp3d", "pb2d", "bb1d"}) {
+    for (const char* estimator : {"bre", "pp3d", "pb2d", "bb1d", "combined"}) {
         TestScene s(std::string("photons_") + estimator);
         // About 250 MiB in use once the scene is loaded: room for ~1e6 photons'
         // items, which white's red channel outgrows within a few per cent of its photons.
@@ -486,8 +486,9 @@ TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
         EXPECT_NE(r.err.find("printlight: error: one iteration's photons outgrow the memory ("), std::string::npos)
             << r.err;
         const std::string name = estimator;
-        const std::string remedy = name == "bre" || name == "pp3d" ? "lower " + name + "_photons_per_pixel"
-                                                                   : "lower beams_photons_per_pixel";
+        const std::string remedy = name == "bre"                        ? "lower bre_photons_per_pixel"
+                                   : name == "pp3d" || name == "combined" ? "lower pp3d_photons_per_pixel"
+                                                                          : "lower beams_photons_per_pixel";
         EXPECT_NE(r.err.find(remedy), std::string::npos)
             << r.err;
         EXPECT_FALSE(s.anyOutput()) << "output written despite the error";

@@ -17,6 +17,12 @@
 
 namespace pl {
 
+// Whether no boundary lies within reach_mm of x: the block's clearance, or
+// else the nearest surface point.
+inline bool isClear(const Scene& scene, const Point3f& x, float reach_mm) {
+    return (scene.clearance && scene.clearance->at(x) >= reach_mm) || !scene.geometry->closestPoint(x, reach_mm);
+}
+
 // The radiance arriving along -ray.d at ray.o (a ray from outside; entry:
 // where it meets the object, or none). gatherAt(x, dIn, label) returns what
 // the photons near x send towards -dIn, at both radii, in the photons' unit,
@@ -28,11 +34,8 @@ ChannelSample gatherWhereClear(const Scene& scene, float radius_mm, const Ray& r
     const ChannelLut& lut = scene.medium->lut(channel);
     const float reach_mm = radius_mm + scene.geometry->surfaceLift_mm();
     TwoRadii gathered;
-    // The block's clearance, or else the nearest surface point.
     auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
-        const bool clear = (scene.clearance && scene.clearance->at(x) >= reach_mm) ||
-                           !scene.geometry->closestPoint(x, reach_mm);
-        if (!clear) return false;
+        if (!isClear(scene, x, reach_mm)) return false;
         gathered += gatherAt(x, dIn, label) * double(path.beta);
         return true;
     };

@@ -55,6 +55,8 @@ public:
     }
 
     uint64_t count() const { return count_; }
+    // The surface the photons enter through, uniformly by area.
+    double area_mm2() const { return entries_.area_mm2(); }
 
     // The photons of sample `sample` in a channel. Each photon's walk calls
     // onFlight(stored, ray, tEnd_mm, path) for every flight and
