@@ -224,13 +224,15 @@ TEST(SlabReference, PhotonEstimatorsCoverTheirBias) {
         pose.up = {0, 1, 0};
         OrthographicSensor camera(pose, 2.0f, 16, 16);
         SurfaceVoxelSensor voxels = topVoxels(scene, slab);
-        for (const char* estimator : {"bre", "pp3d", "pb2d"})
+        for (const char* estimator : {"bre", "pp3d", "pb2d", "combined"})
             for (const Sensor* sensor : {static_cast<const Sensor*>(&camera), static_cast<const Sensor*>(&voxels)}) {
                 const double photons = sensor == &camera ? 4096.0 : 2.0 * kSide * kSide;
                 RenderSettings s;
                 setIntegrator(s, estimator);
                 const std::string name = estimator;
-                s.parameters.set(name == "pb2d" ? "beams_photons_per_pixel" : name + "_photons_per_pixel",
+                s.parameters.set(name == "pb2d"       ? "beams_photons_per_pixel"
+                                 : name == "combined" ? "pp3d_photons_per_pixel"
+                                                      : name + "_photons_per_pixel",
                                  photons / double(sensor->pixelCount()));
                 s.spp = 16;
                 s.seed = 3;

@@ -117,8 +117,9 @@ ChannelSample Bre::gather(const PhotonMap& map, const Ray& cameraRay, const std:
     double beta = 1.0 - F;
     Ray ray = enteringRay(scene_, cameraRay, *entry);
     for (int segment = 0; segment < kMostSegments && beta > 1e-6; ++segment) {
-        const std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
-        if (!exit) break;  // a numerical leak
+        std::optional<SurfaceHit> exit = geometry.intersectFromInside(ray);
+        if (!exit) exit = geometry.exitBeforeTMin(ray);  // spawned at an edge
+        if (!exit) break;                                // a numerical leak
         const SegmentGather g = gatherSegment(map, ray, exit->t, channel, medium);
         gathered += g.radiance * (beta * insideToOutside(scene_));
         if (!(g.transmittance > 0.0f)) break;
