@@ -19,8 +19,9 @@ RenderSettings combined() {
     return s;
 }
 
-// The weights' ratio q / (f sigma_t) = n^2 N V / (pi A) on the coloured box.
-TEST(Combined, MergeRatioIsPhotonDensityTimesTheBall) {
+// The merges' ratios to the walk's pdf, n^2 N V / (pi A) and n^2 N r^2 / A,
+// on the coloured box (its area from the mesh, N from the pixels).
+TEST(Combined, MergeRatiosArePhotonDensityTimesTheKernelsSupport) {
     Scene scene = test::colouredPhotonBox(1.5f);
     const LabelGrid& g = scene.medium->grid();
     SurfaceVoxelSensor sensor(*scene.geometry, g.frame(), g.surfaceVoxels());
@@ -31,9 +32,9 @@ TEST(Combined, MergeRatioIsPhotonDensityTimesTheBall) {
     for (int a = 0; a < 3; ++a) side_mm[a] = test::kPhotonBoxResolution[a] * double(test::kPhotonBoxVoxel_mm[a]);
     const double area_mm2 = 2.0 * (side_mm[0] * side_mm[1] + side_mm[1] * side_mm[2] + side_mm[2] * side_mm[0]);
     const double photons = std::llround(2.0 * double(sensor.pixelCount()));
-    const float r_mm = 0.1f;
-    EXPECT_NEAR(estimator.mergeRatioFactor(r_mm), 2.25 * photons * (4.0 / 3.0) * 1e-3 / area_mm2,
-                1e-4 * estimator.mergeRatioFactor(r_mm));
+    const Combined::MergeRatios ratios = estimator.mergeRatios(0.1f);
+    EXPECT_NEAR(ratios.point_mm, 2.25 * photons * (4.0 / 3.0) * 1e-3 / area_mm2, 1e-4 * ratios.point_mm);
+    EXPECT_NEAR(ratios.beam, 2.25 * photons * 1e-2 / area_mm2, 1e-4 * ratios.beam);
 }
 
 TEST(Combined, WhiteFurnaceIsTheEnvironment) { test::expectWhiteFurnace(combined(), 12, 3); }

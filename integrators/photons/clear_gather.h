@@ -17,12 +17,6 @@
 
 namespace pl {
 
-// Whether no boundary lies within reach_mm of x: the block's clearance, or
-// else the nearest surface point.
-inline bool isClear(const Scene& scene, const Point3f& x, float reach_mm) {
-    return (scene.clearance && scene.clearance->at(x) >= reach_mm) || !scene.geometry->closestPoint(x, reach_mm);
-}
-
 // The radiance arriving along -ray.d at ray.o (a ray from outside; entry:
 // where it meets the object, or none). gatherAt(x, dIn, label) returns what
 // the photons near x send towards -dIn, at both radii, in the photons' unit,

@@ -56,8 +56,16 @@ public:
     void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const override;
 
     float radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
-    // q f_k / sigma_t(x_k) for a ball of radius radius_mm: n^2 N V / (pi A), in mm.
-    double mergeRatioFactor(float radius_mm) const;
+    // The merges' pdfs over the walk's at a vertex x of extinction sigma_t
+    // and phase f: q_point = point_mm sigma_t / f (point_mm = n^2 N V /
+    // (pi A), the ball's V) and q_beam = beam / f (beam = n^2 N r^2 / A).
+    struct MergeRatios {
+        double point_mm;
+        double beam;
+    };
+    MergeRatios mergeRatios(float radius_mm) const;
+    // Where a merge may be: no boundary within the radius and the lift.
+    float clearReach_mm(float radius_mm) const { return radius_mm + scene_.geometry->surfaceLift_mm(); }
     // The radiance arriving along -ray.d at ray.o (a ray from outside;
     // entry: where it meets the object, or none), with the kernel's bias.
     ChannelSample Li(const PhotonMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry, int channel,

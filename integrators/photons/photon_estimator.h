@@ -16,6 +16,12 @@ inline IntegratorCapabilities photonCapabilities() {
     return c;
 }
 
+// Whether no boundary lies within reach_mm of x: the block's clearance, or
+// else the nearest surface point.
+inline bool isClear(const Scene& scene, const Point3f& x, float reach_mm) {
+    return (scene.clearance && scene.clearance->at(x) >= reach_mm) || !scene.geometry->closestPoint(x, reach_mm);
+}
+
 // What photons gather is the radiance inside, n^2 times the path tracers'
 // unit: this turns it into theirs.
 inline double insideToOutside(const Scene& scene) { return 1.0 / (double(scene.ior) * scene.ior); }
