@@ -486,9 +486,8 @@ TEST(Cli, PhotonEstimatorsStopWhenTheirPhotonsOutgrowTheMemory) {
         EXPECT_NE(r.err.find("printlight: error: one iteration's photons outgrow the memory ("), std::string::npos)
             << r.err;
         const std::string name = estimator;
-        const std::string remedy = name == "bre"                        ? "lower bre_photons_per_pixel"
-                                   : name == "pp3d" || name == "combined" ? "lower pp3d_photons_per_pixel"
-                                                                          : "lower beams_photons_per_pixel";
+        const bool ownCount = name == "bre" || name == "pp3d" || name == "combined";
+        const std::string remedy = ownCount ? "lower " + name + "_photons_per_pixel" : "lower beams_photons_per_pixel";
         EXPECT_NE(r.err.find(remedy), std::string::npos)
             << r.err;
         EXPECT_FALSE(s.anyOutput()) << "output written despite the error";

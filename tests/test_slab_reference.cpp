@@ -230,9 +230,7 @@ TEST(SlabReference, PhotonEstimatorsCoverTheirBias) {
                 RenderSettings s;
                 setIntegrator(s, estimator);
                 const std::string name = estimator;
-                s.parameters.set(name == "pb2d"       ? "beams_photons_per_pixel"
-                                 : name == "combined" ? "pp3d_photons_per_pixel"
-                                                      : name + "_photons_per_pixel",
+                s.parameters.set(name == "pb2d" ? "beams_photons_per_pixel" : name + "_photons_per_pixel",
                                  photons / double(sensor->pixelCount()));
                 s.spp = 16;
                 s.seed = 3;

@@ -12,25 +12,42 @@
 
 namespace pl {
 
-Combined::Combined(const Scene& scene, const Sensor& sensor, Pp3dOptions options, Majorants majorants,
+const std::vector<OptionParameter<CombinedOptions>>& combinedParameters() {
+    using O = CombinedOptions;
+    static const std::vector<OptionParameter<O>> parameters = {
+        {"combined_photons_per_pixel", &O::photonsPerPixel, 0, 1e6, true, "must be in (0, 1e6]",
+         "combined: photons traced per iteration (sample) for each sensor pixel"},
+        {"combined_radius_voxels", &O::radius_voxels, 0, 100, true, "must be in (0, 100] (voxel sides)",
+         "combined: the first iteration's kernel radius (ball and disc), in the smallest voxel side"},
+        {"combined_alpha", &O::alpha, 0, 1, true, "must be in (0, 1]",
+         "combined: r_{i+1}^3 = r_i^3 (i + alpha) / (i + 1); 1 keeps the radius"},
+        {"combined_beams", &O::beams, 0, 0, false, "",
+         "combined: also bre's queries along the camera's flights (short beams) as a third technique"},
+    };
+    return parameters;
+}
+
+Combined::Combined(const Scene& scene, const Sensor& sensor, CombinedOptions options, Majorants majorants,
                    uint64_t seed)
     : scene_(scene),
       photons_(scene, majorants, options.photonsPerPixel, sensor.pixelCount(), seed, 0x636f6d62ULL, kPhotonBytes,
-               "combined", "photons", "lower pp3d_photons_per_pixel"),
-      radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, 3) {}
+               "combined", "photons", "lower combined_photons_per_pixel"),
+      radius_(options.radius_voxels, scene.medium->frame().voxelSize_mm, options.alpha, 3),
+      beams_(options.beams) {}
 
 IntegratorCapabilities Combined::capabilities(const RenderSettings&) { return photonCapabilities(); }
 
 std::unique_ptr<Integrator> Combined::create(const Scene& scene, const Sensor& sensor, const RenderSettings& s) {
-    return std::make_unique<Combined>(scene, sensor, readOptions(pp3dParameters(), s.parameters), s.majorants,
+    return std::make_unique<Combined>(scene, sensor, readOptions(combinedParameters(), s.parameters), s.majorants,
                                       s.seed);
 }
 
 Combined::MergeRatios Combined::mergeRatios(float radius_mm) const {
     const double r_mm = radius_mm;
     const double densityTimesN2 = double(scene_.ior) * scene_.ior * double(photons_.count()) / photons_.area_mm2();
-    // n^2 N / (pi A) times the ball's volume, and times the disc's area.
-    return {densityTimesN2 * 4.0 / 3.0 * r_mm * r_mm * r_mm, densityTimesN2 * r_mm * r_mm};
+    // n^2 N / (pi A) times the ball's volume, and times the disc's area
+    // (no beams: none).
+    return {densityTimesN2 * 4.0 / 3.0 * r_mm * r_mm * r_mm, beams_ ? densityTimesN2 * r_mm * r_mm : 0.0};
 }
 
 namespace {
@@ -124,7 +141,7 @@ ChannelSample Combined::Li(const PhotonMap& map, const Ray& ray, const std::opti
 
     auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& path) {
         if (stage == Stage::Walking) {
-            gathered += gatherAlong(flight, tEnd_mm) * double(path.beta);
+            if (beams_) gathered += gatherAlong(flight, tEnd_mm) * double(path.beta);
         } else if (stage == Stage::Merged) {
             const double f = hgPhase(dot(mergeDIn, flight.d), mergeG);
             walkWeight = f / (f + mergeQTimesPhase);
