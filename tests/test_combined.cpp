@@ -36,17 +36,18 @@ TEST(Combined, MergeRatiosArePhotonDensityTimesTheKernelsSupport) {
     const double area_mm2 = 2.0 * (side_mm[0] * side_mm[1] + side_mm[1] * side_mm[2] + side_mm[2] * side_mm[0]);
     const double photons = std::llround(2.0 * double(sensor.pixelCount()));
     const Combined::MergeRatios ratios = estimator.mergeRatios(0.1f);
-    EXPECT_NEAR(ratios.point_mm, 2.25 * photons * (4.0 / 3.0) * 1e-3 / area_mm2, 1e-4 * ratios.point_mm);
-    EXPECT_NEAR(ratios.beam, 2.25 * photons * 1e-2 / area_mm2, 1e-4 * ratios.beam);
+    EXPECT_NEAR(ratios.ballPerExtinction_mm, 2.25 * photons * (4.0 / 3.0) * 1e-3 / area_mm2, 1e-4 * ratios.ballPerExtinction_mm);
+    EXPECT_NEAR(ratios.discTimesPhase, 2.25 * photons * 1e-2 / area_mm2, 1e-4 * ratios.discTimesPhase);
     o.beams = false;
-    EXPECT_EQ(Combined(scene, sensor, o, Majorants::PerBrick, 1).mergeRatios(0.1f).beam, 0.0);
+    EXPECT_EQ(Combined(scene, sensor, o, Majorants::PerBrick, 1).mergeRatios(0.1f).discTimesPhase, 0.0);
 }
 
 TEST(Combined, WhiteFurnaceIsTheEnvironment) { test::expectWhiteFurnace(combined(), 12, 3); }
 
-// With the beams, whose gathers decide at the flight's point nearest each
-// photon where a merge may be (deciding at the photon counted 4-11 % too
-// much here).
+// With the beams, whose gathers take the flight's point nearest each photon
+// as the merging vertex (taking the photon's own position counted light
+// twice where a flight passes just outside the clear region, and failed
+// this test).
 TEST(Combined, WithBeamsWhiteFurnaceIsTheEnvironment) { test::expectWhiteFurnace(combined(true), 12, 3); }
 
 TEST(Combined, AgreesWithVolpathOnHomogeneousBoxes) { test::expectAgreementOnHomogeneousBoxes(combined(), 12, 7); }
@@ -57,16 +58,19 @@ TEST(Combined, WithBeamsAgreesWithVolpathOnHomogeneousBoxes) {
 
 TEST(Combined, AgreesWithVolpathOnAHalftonedBox) {
     Scene scene = test::halftonedPhotonBox();
-    RenderSettings s = combined();
-    s.seed = 9;
-    test::expectFaceMiddlesAgree(test::renderIterations(scene, s, 16).faceMiddle, test::volpathFaceMiddle(scene, 256),
-                                 "halftoned box");
+    const test::Estimate reference = test::volpathFaceMiddle(scene, 256);
+    for (bool beams : {false, true}) {
+        RenderSettings s = combined(beams);
+        s.seed = 9;
+        test::expectFaceMiddlesAgree(test::renderIterations(scene, s, 16).faceMiddle, reference,
+                                     beams ? "halftoned box, with beams" : "halftoned box");
+    }
 }
 
 // A photon for every 4 surface voxels and a ball of one voxel: q_point is
 // about 0.5-2 (and q_beam about 5), and the techniques share the weight.
 // (Weighting the walk's light or the merged photons by 1, or leaving out
-// the roulette's inverse, moves the estimate by 10-35 % here.)
+// the roulette's inverse, fails here.)
 TEST(Combined, AgreesWithVolpathWhereEveryTechniqueCarriesWeight) {
     for (bool beams : {false, true}) {
         RenderSettings s = combined(beams);

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "core/film.h"
+#include "integrators/photons/clear_region.h"
 #include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/two_radii.h"
 #include "integrators/volume_walk.h"
@@ -26,7 +27,7 @@ ChannelSample gatherWhereClear(const Scene& scene, float radius_mm, const Ray& r
                                const std::optional<SurfaceHit>& entry, int channel, LabelMedium::Tracker& medium,
                                Rng& rng, PathStats& stats, GatherAt&& gatherAt) {
     const ChannelLut& lut = scene.medium->lut(channel);
-    const float reach_mm = radius_mm + scene.geometry->surfaceLift_mm();
+    const float reach_mm = clearReach_mm(scene, radius_mm);
     TwoRadii gathered;
     auto onCollision = [&](const Point3f& x, const Vec3f& dIn, Label label, const SingleChannelPath& path) {
         if (!isClear(scene, x, reach_mm)) return false;

@@ -1,51 +1,43 @@
 // combined: volpath and pp3d (and, with combined_beams, bre's queries)
 // under one multiple-importance weighting, the way UPBP (Krivanek et al.
 // 2014) combines its estimators, restricted to these, each merging at the
-// camera path's first clear vertex x_k (the first real collision, or a
-// point of a flight, with no boundary within the radius: where pp3d
-// gathers):
+// camera path's first clear vertex x_k (a real collision, or a point of a
+// flight, with no boundary within the radius: clear_region.h):
 //  - path: volpath's walk goes on from x_k, its light where it leaves;
 //  - point: the photons in a ball around x_k, a collision (pp3d's);
 //  - beam (combined_beams): the photons in a disc around a flight before
 //    any clear collision, at its clear points up to where the flight ends
-//    (a short beam: it reaches t with probability T(t), as bre's
-//    transmittance). Off by default: on the 3 mm cubes it made the
-//    combination 2.5-8x slower to the same error (the weights hand the
-//    beams up to half the weight; their variance is far above what the
-//    pdfs say).
+//    (a short beam: it reaches t with probability T(t), bre's
+//    transmittance).
 //
-// The three make the same paths, and their pdfs differ only at x_k: the
-// ratios telescope. Along a path x_1 .. x_n in the medium, the camera side
-// samples x_{i+1} with phase f_i x sigma_t(x_{i+1}) T / d^2, the light side
-// x_i with f_{i+1} x sigma_t(x_i) T / d^2 (the transmittance, the distance
-// and the Fresnel choices at internal reflections are the same both ways).
-// The photons enter uniformly over the area A with cosine-weighted
-// directions (inside: n^2 cos / pi per steradian). With N photons an
-// iteration, a ball of volume V and a disc of radius r:
+// The techniques make the same paths, and their pdfs differ only at x_k:
+// the ratios telescope. Along a path x_1 .. x_n in the medium, the camera
+// side samples x_{i+1} with phase f_i x sigma_t(x_{i+1}) T / d^2, the light
+// side x_i with f_{i+1} x sigma_t(x_i) T / d^2 (the transmittance, the
+// distance and the Fresnel choices at internal reflections are the same
+// both ways). The photons enter uniformly over the area A with
+// cosine-weighted directions (inside: n^2 cos / pi per steradian). With N
+// photons an iteration, a ball of volume V and a disc of radius r:
 //   q_point = p_point / p_path = n^2 N V sigma_t(x_k) / (pi A f_k),
 //   q_beam  = p_beam / p_path  = n^2 N r^2 / (A f_k),
 // f_k the phase at x_k between the camera's flight and the next one (the
-// photon's, reversed, when merging). The balance heuristic weights each by
-// q / (1 + q_point + q_beam), the walk's light after x_k by
+// photon's, reversed, when merging). The balance heuristic weights each
+// merge by q / (1 + q_point + q_beam) and the walk's light after x_k by
 // 1 / (1 + q_point + q_beam). (The Fresnel factor where the light path
 // entered and the roulettes are left out of q: the weights still sum to
 // one for every path, so the combination stays unbiased up to the
-// kernels' bias.) Where a merge may be is decided at the camera's point
-// (the collision, or the flight's point nearest the photon) for every
-// technique, as the walk decides its first clear collision: a photon's own
-// position would count light twice where a flight passes just outside the
-// clear region (4-11 % over the white furnace).
+// kernels' bias.) Every technique takes x_k, and its resin, at the
+// camera's point (the collision, or the flight's point nearest the
+// photon), as the walk finds its first clear collision: so each path has
+// one x_k whichever technique made it.
 //
-// In these dense resins the merges are large (q_point 75-250 at an
-// isotropic phase on the 3 mm cubes at pp3d's defaults: some 2000 photons
-// per mm^2, sigma_t of 6-20 per mm, a ball of 2 voxels; q_beam / q_point =
-// 3 / (4 sigma_t r)), so they take almost all of the weight where they
-// may gather, and the walk after x_k goes on only with its weight's
-// probability, weighted up by its inverse (a roulette at the next
-// collision): its light stays in the estimate at a fraction of the cost.
-// One radius for ball and disc, shrinking as pp3d's; the reported error
-// covers the kernels' bias from two radii as pp3d's. Separate channel
-// passes only.
+// The merges take most of the weight where they may gather in these dense
+// resins (q_point is 10 or more), so the walk after x_k goes on only with
+// its weight's probability, weighted up by its inverse (a roulette at its
+// next collision): its light stays in the estimate at a fraction of the
+// cost. One radius for ball and disc, shrinking as pp3d's; the reported
+// error covers the kernels' bias from two radii as pp3d's. Separate
+// channel passes only. Measured in docs/particle-methods.md.
 #pragma once
 
 #include <memory>
@@ -85,16 +77,16 @@ public:
     void render(const RenderPass& pass, Film& film, PathStats& stats, ProgressBar& progress) const override;
 
     float radiusAt_mm(uint32_t iteration) const { return radius_.at_mm(iteration); }
-    // The merges' pdfs over the walk's at a vertex x of extinction sigma_t
-    // and phase f: q_point = point_mm sigma_t / f (point_mm = n^2 N V /
-    // (pi A), the ball's V) and q_beam = beam / f (beam = n^2 N r^2 / A).
+    // The merges' pdfs over the walk's at a vertex of extinction sigma_t
+    // and phase f, but for those: q_point = ballPerExtinction_mm sigma_t / f
+    // (n^2 N V / (pi A), V the ball's volume) and q_beam = discTimesPhase / f
+    // (n^2 N r^2 / A; 0 without the beams).
     struct MergeRatios {
-        double point_mm;
-        double beam;
+        double ballPerExtinction_mm;
+        double discTimesPhase;
     };
     MergeRatios mergeRatios(float radius_mm) const;
-    // Where a merge may be: no boundary within the radius and the lift.
-    float clearReach_mm(float radius_mm) const { return radius_mm + scene_.geometry->surfaceLift_mm(); }
+
     // The radiance arriving along -ray.d at ray.o (a ray from outside;
     // entry: where it meets the object, or none), with the kernel's bias.
     ChannelSample Li(const PhotonMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry, int channel,

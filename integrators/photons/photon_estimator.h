@@ -1,4 +1,4 @@
-// What every progressive photon estimator (bre, pp3d, pb2d, bb1d) declares
+// What every progressive photon estimator (bre, pp3d, pb2d, bb1d, combined) declares
 // the same way: its capabilities and the unit of what it gathers.
 #pragma once
 
@@ -14,12 +14,6 @@ inline IntegratorCapabilities photonCapabilities() {
     c.needs = {false, true};
     c.lightPathsServeEveryPixel = true;
     return c;
-}
-
-// Whether no boundary lies within reach_mm of x: the block's clearance, or
-// else the nearest surface point.
-inline bool isClear(const Scene& scene, const Point3f& x, float reach_mm) {
-    return (scene.clearance && scene.clearance->at(x) >= reach_mm) || !scene.geometry->closestPoint(x, reach_mm);
 }
 
 // What photons gather is the radiance inside, n^2 times the path tracers'
