@@ -67,9 +67,11 @@ ChannelSample Combined::Li(const PhotonMap& map, const Ray& ray, const std::opti
     TwoRadii gathered;
 
     // The photons within r of a flight before the first clear collision, up
-    // to where the flight ends (a short beam), where the flight's point
-    // nearest them is clear; the weights are that point's too, as every
-    // technique's are the camera's.
+    // to where the flight ends (a short beam), where the flight's point c
+    // nearest them is clear. As in the ball, a photon brings its share of
+    // the fluence (power / sigma_s where it was stored) and c's resin
+    // scatters it: everything but the fluence, weights included, is the
+    // camera's point's, as in every technique.
     auto gatherAlong = [&](const Ray& flight, float tEnd_mm) {
         TwoRadii sum;
         ClearAlong clear(scene_, flight, reach_mm, map.radius_mm());
@@ -79,11 +81,13 @@ ChannelSample Combined::Li(const PhotonMap& map, const Ray& ray, const std::opti
             if (t < 0.0f || t > tEnd_mm) return;
             const float d2 = dot(v, v) - t * t;
             if (!(d2 < r2) || !clear.at(t)) return;
-            const Label here = medium.labelAt(scene_.medium->voxelAt(flight.at(t)));
-            const double fHere = hgPhase(dot(ph.dIn, -flight.d), lut.g[here]);
-            const double weight = ratios.discTimesPhase / (fHere + qSumTimesPhase(here));
-            const double f = hgPhase(dot(ph.dIn, -flight.d), lut.g[ph.label]);  // bre's estimate
-            sum += discBiweight(d2, r2) * (weight * f * double(ph.power));
+            const double sigmaS_perMm = double(lut.sigmaT_perMm[ph.label]) * lut.albedo[ph.label];
+            if (!(sigmaS_perMm > 0.0)) return;
+            const Label c = medium.labelAt(scene_.medium->voxelAt(flight.at(t)));
+            const double f = hgPhase(dot(ph.dIn, -flight.d), lut.g[c]);
+            const double weight = ratios.discTimesPhase / (f + qSumTimesPhase(c));
+            const double scattered = double(lut.sigmaT_perMm[c]) * lut.albedo[c] * f;
+            sum += discBiweight(d2, r2) * (weight * scattered * double(ph.power) / sigmaS_perMm);
         });
         return sum;
     };

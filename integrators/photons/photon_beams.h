@@ -123,13 +123,6 @@ public:
                              int channel, LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const = 0;
 
 protected:
-    // bb1d's camera walk: volpath's, ending at the first real collision.
-    static VolPathOptions cameraWalk() {
-        VolPathOptions o;
-        o.maxDepth = 0;
-        return o;
-    }
-
     const Scene& scene_;
 
 private:

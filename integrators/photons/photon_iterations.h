@@ -1,4 +1,4 @@
-// The pass of a progressive photon estimator (bre, pp3d, pb2d, bb1d): each
+// The pass of a progressive photon estimator (bre, pp3d, pb2d, bb1d, combined): each
 // sample is one iteration, whose photons are traced first and then serve
 // every pixel's camera ray. A pixel's samples whose camera rays enter at
 // one label are pooled, as volpath's are (poolByEntry).

@@ -1,4 +1,4 @@
-// Photons as points (bre's and pp3d's): stored where a photon's walk meets
+// Photons as points (bre's, pp3d's and combined's): stored where a photon's walk meets
 // a real collision, with its power after the albedo, and filed by the cell
 // of a grid whose side is the iteration's kernel radius.
 #pragma once
