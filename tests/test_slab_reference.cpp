@@ -211,7 +211,10 @@ TEST(SlabReference, DenseSlabsLoseNothingAtTheSurface) {
 // kernel's first radius), absorbing in one channel; a 16 x 16 view of the
 // centre with 4096 photons an iteration, and the surface voxels there
 // with the photons of 2 per voxel over the top face.
-TEST(SlabReference, PhotonEstimatorsCoverTheirBias) {
+class PhotonEstimatorOnSlabs : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(PhotonEstimatorOnSlabs, CoversItsBias) {
+    const char* estimator = GetParam();
     const SlabCase cases[] = {{{0.99f, 0.9f, 0.5f}, {0.4f, 0.0f, 0.4f}, 60},
                               {{0.5f, 0.99f, 0.9f}, {0.0f, 0.4f, 0.0f}, 10},
                               {{0.9f, 0.5f, 0.99f}, {0.4f, 0.4f, 0.0f}, 10, 10.0f}};
@@ -224,42 +227,45 @@ TEST(SlabReference, PhotonEstimatorsCoverTheirBias) {
         pose.up = {0, 1, 0};
         OrthographicSensor camera(pose, 2.0f, 16, 16);
         SurfaceVoxelSensor voxels = topVoxels(scene, slab);
-        for (const char* estimator : {"bre", "pp3d", "pb2d", "bb1d", "combined"})
-            for (const Sensor* sensor : {static_cast<const Sensor*>(&camera), static_cast<const Sensor*>(&voxels)}) {
-                const double photons = sensor == &camera ? 4096.0 : 2.0 * kSide * kSide;
-                RenderSettings s;
-                setIntegrator(s, estimator);
-                const std::string name = estimator;
-                const bool beams = name == "pb2d" || name == "bb1d";
-                s.parameters.set(beams ? "beams_photons_per_pixel" : name + "_photons_per_pixel",
-                                 photons / double(sensor->pixelCount()));
-                s.spp = 16;
-                s.seed = 3;
-                const RenderResult r = render(scene, *sensor, s);
-                const std::string what = std::string(estimator) + (sensor == &camera ? " camera" : " surface voxels") +
-                                         ", albedo " + std::to_string(slab.albedo[0]) + ", " +
-                                         std::to_string(slab.layers) + " layers";
-                const size_t n = r.film.pixelCount();
-                for (int c = 0; c < 3; ++c) {
-                    size_t far = 0;
-                    double z2 = 0;
-                    for (size_t p = 0; p < n; ++p) {
-                        const double z = (r.film.mean(p, c) - reference[c]) / r.film.standardError(p, c);
-                        z2 += z * z;
-                        if (std::abs(z) > 4.0) ++far;
-                    }
-                    EXPECT_LE(z2 / double(n), 2.0) << what << ", channel " << c << ": mean z^2";
-                    EXPECT_LE(double(far), 0.025 * double(n)) << what << ", channel " << c << ": beyond 4 errors";
+        for (const Sensor* sensor : {static_cast<const Sensor*>(&camera), static_cast<const Sensor*>(&voxels)}) {
+            const double photons = sensor == &camera ? 4096.0 : 2.0 * kSide * kSide;
+            RenderSettings s;
+            setIntegrator(s, estimator);
+            const std::string name = estimator;
+            const bool beams = name == "pb2d" || name == "bb1d";
+            s.parameters.set(beams ? "beams_photons_per_pixel" : name + "_photons_per_pixel",
+                             photons / double(sensor->pixelCount()));
+            s.spp = 16;
+            s.seed = 3;
+            const RenderResult r = render(scene, *sensor, s);
+            const std::string what = std::string(estimator) + (sensor == &camera ? " camera" : " surface voxels") +
+                                     ", albedo " + std::to_string(slab.albedo[0]) + ", " +
+                                     std::to_string(slab.layers) + " layers";
+            const size_t n = r.film.pixelCount();
+            for (int c = 0; c < 3; ++c) {
+                size_t far = 0;
+                double z2 = 0;
+                for (size_t p = 0; p < n; ++p) {
+                    const double z = (r.film.mean(p, c) - reference[c]) / r.film.standardError(p, c);
+                    z2 += z * z;
+                    if (std::abs(z) > 4.0) ++far;
                 }
-                const test::Estimate mean = test::meanOf(r);
-                for (int c = 0; c < 3; ++c)
-                    EXPECT_NEAR(mean.mean[c], reference[c], 4.0 * mean.standardError[c]) << what << ", channel " << c;
-                // No walk from inside misses the boundary (one spawned at an
-                // edge leaves by the face before its tMin: tests/test_spawn_ray.cpp).
-                EXPECT_EQ(r.stats.leaks, 0u) << what;
+                EXPECT_LE(z2 / double(n), 2.0) << what << ", channel " << c << ": mean z^2";
+                EXPECT_LE(double(far), 0.025 * double(n)) << what << ", channel " << c << ": beyond 4 errors";
             }
+            const test::Estimate mean = test::meanOf(r);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(mean.mean[c], reference[c], 4.0 * mean.standardError[c]) << what << ", channel " << c;
+            // No walk from inside misses the boundary (one spawned at an
+            // edge leaves by the face before its tMin: tests/test_spawn_ray.cpp).
+            EXPECT_EQ(r.stats.leaks, 0u) << what;
+        }
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(SlabReference, PhotonEstimatorOnSlabs,
+                         ::testing::Values("bre", "pp3d", "pb2d", "bb1d", "combined"),
+                         [](const ::testing::TestParamInfo<const char*>& info) { return std::string(info.param); });
 
 // volpath, the estimator every other is checked against, on the same slabs
 // (the mean over pixels: at 2 spp its samples, 0 or 1 per unit environment,
