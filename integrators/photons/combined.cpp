@@ -4,6 +4,7 @@
 #include "integrators/photons/clear_region.h"
 #include "integrators/photons/photon_estimator.h"
 #include "integrators/photons/photon_iterations.h"
+#include "integrators/photons/pp3d.h"
 #include "integrators/photons/two_radii.h"
 #include "integrators/render_settings.h"
 #include "integrators/volume_walk.h"
@@ -93,19 +94,10 @@ ChannelSample Combined::Li(const PhotonMap& map, const Ray& ray, const std::opti
     };
     // The photons within r of x, the first clear collision.
     auto gatherAround = [&](const Point3f& x, const Vec3f& dIn) {
-        TwoRadii sum;
-        const double g = lut.g[mergeLabel];
         const double pointTimesPhase = ratios.ballPerExtinction_mm * lut.sigmaT_perMm[mergeLabel];
-        map.forEachNearPoint(x, [&](const PhotonMap::Photon& ph) {
-            const Vec3f v = ph.p - x;
-            const float d2 = dot(v, v);
-            const double sigmaS_perMm = double(lut.sigmaT_perMm[ph.label]) * lut.albedo[ph.label];
-            if (!(d2 < r2) || !(sigmaS_perMm > 0.0)) return;
-            const double f = hgPhase(dot(ph.dIn, -dIn), float(g));
-            const double weight = pointTimesPhase / (f + qSumTimesPhase(mergeLabel));
-            sum += ballBiweight(d2, r2) * (weight * f * double(ph.power) / sigmaS_perMm);
-        });
-        return sum;
+        const double qSum = qSumTimesPhase(mergeLabel);
+        return gatherBall(map, lut, x, dIn, lut.g[mergeLabel],
+                          [&](double f) { return pointTimesPhase / (f + qSum) * f; });
     };
 
     auto onFlight = [&](const Ray& flight, float tEnd_mm, const SingleChannelPath& path) {

@@ -1,5 +1,5 @@
-// The photons of one iteration of a progressive photon estimator (bre's
-// and pp3d's points, pb2d's and bb1d's beams): they enter from the environment,
+// The photons of one iteration of a progressive photon estimator (bre's,
+// pp3d's and combined's points, pb2d's and bb1d's beams): they enter from the environment,
 // uniform by area over the mesh with cosine-weighted directions, each
 // carrying the power the environment sends in (Le pi A) over their count,
 // and walk with volpath's walk (walkParticleIn). They are traced in

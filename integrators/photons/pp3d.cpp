@@ -36,18 +36,8 @@ std::unique_ptr<Integrator> Pp3d::create(const Scene& scene, const Sensor& senso
 ChannelSample Pp3d::Li(const PhotonMap& map, const Ray& ray, const std::optional<SurfaceHit>& entry, int channel,
                        LabelMedium::Tracker& medium, Rng& rng, PathStats& stats) const {
     const ChannelLut& lut = scene_.medium->lut(channel);
-    const float r2 = map.radius_mm() * map.radius_mm();
     auto gatherAt = [&](const Point3f& x, const Vec3f& dIn, Label label) {
-        TwoRadii sum;
-        const float g = lut.g[label];
-        map.forEachNearPoint(x, [&](const PhotonMap::Photon& ph) {
-            const Vec3f v = ph.p - x;
-            const float d2 = dot(v, v);
-            const double sigmaS_perMm = double(lut.sigmaT_perMm[ph.label]) * lut.albedo[ph.label];
-            if (!(d2 < r2) || !(sigmaS_perMm > 0.0)) return;
-            sum += ballBiweight(d2, r2) * (hgPhase(dot(ph.dIn, -dIn), g) * double(ph.power) / sigmaS_perMm);
-        });
-        return sum;
+        return gatherBall(map, lut, x, dIn, lut.g[label], [](double f) { return f; });
     };
     return gatherWhereClear(scene_, map.radius_mm(), ray, entry, channel, medium, rng, stats, gatherAt);
 }

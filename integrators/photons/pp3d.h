@@ -22,12 +22,34 @@
 #include <vector>
 
 #include "core/option_table.h"
+#include "core/sampling.h"
 #include "integrators/integrator.h"
 #include "integrators/photons/photon_map.h"
 #include "integrators/photons/photon_parts.h"
 #include "integrators/photons/progressive_radius.h"
+#include "integrators/photons/two_radii.h"
 
 namespace pl {
+
+// The photons within the map's radius of x, gathered in the ball at both
+// radii: the sum over photons y of K3(|x - y|) x weightedPhase(f) x power /
+// sigma_s(y), f the phase (asymmetry g, x's) between the photon's direction
+// and -dIn. pp3d weights f by 1; combined by its merge weight.
+template <class WeightedPhase>
+TwoRadii gatherBall(const PhotonMap& map, const ChannelLut& lut, const Point3f& x, const Vec3f& dIn, float g,
+                    WeightedPhase&& weightedPhase) {
+    const float r2 = map.radius_mm() * map.radius_mm();
+    TwoRadii sum;
+    map.forEachNearPoint(x, [&](const PhotonMap::Photon& ph) {
+        const Vec3f v = ph.p - x;
+        const float d2 = dot(v, v);
+        const double sigmaS_perMm = double(lut.sigmaT_perMm[ph.label]) * lut.albedo[ph.label];
+        if (!(d2 < r2) || !(sigmaS_perMm > 0.0)) return;
+        const double f = hgPhase(dot(ph.dIn, -dIn), g);
+        sum += ballBiweight(d2, r2) * (weightedPhase(f) * double(ph.power) / sigmaS_perMm);
+    });
+    return sum;
+}
 
 struct Pp3dOptions {
     // Photons traced per iteration for each sensor pixel.
